@@ -1,0 +1,78 @@
+/// @file concepts.hpp
+/// The bridge: every expression the library requires of the application's own types.
+/// The library reads user types only through these expressions, never through their
+/// fields, so an existing renderer adapts its G-buffer, lights and ray tracer with a few
+/// free functions or members. docs/bridge.md states each contract in full.
+#pragma once
+
+#include "restir/core/rng.hpp"
+#include "restir/light/light_sampler.hpp"
+#include "restir/light/light_sample.hpp"
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include <concepts>
+#include <cstdint>
+
+namespace restir {
+
+// UniformRng<Rng> (core/rng.hpp): `next_float(rng)` -> float in [0, 1).
+// LightSampler<S> (light/light_sampler.hpp): `s.sample(u0, u1)` -> DiscreteSample,
+//   `s.pmf(id)` -> float, `s.light_count()` -> std::uint32_t.
+
+/// The target function p-hat of resampling at a receiving surface. Required expression:
+///   `f(sample, surface)` -> float, finite and >= 0; typically the luminance of
+///   Le * BSDF * G without visibility. It must be cheap: reuse evaluates it for every
+///   neighbour (and, for the balance heuristic, for every pair of neighbours).
+template <class F, class Sample, class SurfaceT>
+concept TargetFunction = requires(const F& f, const Sample& sample, const SurfaceT& surface) {
+    { f(sample, surface) } -> std::convertible_to<float>;
+};
+
+/// A shading point (a G-buffer texel). Required expressions, found by argument-dependent
+/// lookup so that existing types need no new members:
+///   `surface_position(s)` -> glm::vec3, world-space position;
+///   `surface_normal(s)`   -> glm::vec3, unit shading normal;
+///   `surface_depth(s)`    -> float, linear view depth (for reuse rejection);
+///   `is_valid_surface(s)` -> bool, false for background pixels.
+template <class S>
+concept Surface = requires(const S& s) {
+    { surface_position(s) } -> std::convertible_to<glm::vec3>;
+    { surface_normal(s) } -> std::convertible_to<glm::vec3>;
+    { surface_depth(s) } -> std::convertible_to<float>;
+    { is_valid_surface(s) } -> std::convertible_to<bool>;
+};
+
+/// A point on a light, as returned by a light set: members `position`, `normal`, `radiance`
+/// (glm::vec3), `area_pdf` (float) and `is_delta` (bool). `restir::LightSample` is one.
+template <class T>
+concept LightPoint = requires(const T& p) {
+    { p.position } -> std::convertible_to<glm::vec3>;
+    { p.normal } -> std::convertible_to<glm::vec3>;
+    { p.radiance } -> std::convertible_to<glm::vec3>;
+    { p.area_pdf } -> std::convertible_to<float>;
+    { p.is_delta } -> std::convertible_to<bool>;
+};
+
+/// All lights of the scene, emitters and VPLs in one id space. Required expressions:
+///   `lights.light_count()`          -> std::uint32_t;
+///   `lights.sample_point(id, uv)`   -> a LightPoint: the point of light `id` that the
+///                                      primary sample `uv` in [0, 1)^2 maps to,
+///                                      deterministic, so a stored LightSampleRef can be
+///                                      evaluated again at another surface.
+template <class L>
+concept LightSet = requires(const L& lights, std::uint32_t id, glm::vec2 uv) {
+    { lights.light_count() } -> std::convertible_to<std::uint32_t>;
+    { lights.sample_point(id, uv) } -> LightPoint;
+};
+
+/// Visibility between two points. Required expression:
+///   `query.occluded(from, to)` -> bool, true when anything blocks the open segment
+///   (the caller offsets the end points off their surfaces).
+template <class Q>
+concept RayQuery = requires(const Q& query, glm::vec3 from, glm::vec3 to) {
+    { query.occluded(from, to) } -> std::convertible_to<bool>;
+};
+
+} // namespace restir

@@ -1,0 +1,27 @@
+/// @file config.hpp
+/// Compile-time configuration: host/device annotation, assertions and version macros.
+#pragma once
+
+#define RESTIR_VERSION_MAJOR 0
+#define RESTIR_VERSION_MINOR 1
+#define RESTIR_VERSION_PATCH 0
+/// Single comparable number: major * 10000 + minor * 100 + patch.
+#define RESTIR_VERSION                                                                             \
+    (RESTIR_VERSION_MAJOR * 10000 + RESTIR_VERSION_MINOR * 100 + RESTIR_VERSION_PATCH)
+
+/// Marks every function that may run on a GPU. Expands to `__host__ __device__` under
+/// nvcc (and hipcc), to nothing in a plain C++ compiler.
+#if defined(__CUDACC__) || defined(__HIPCC__)
+#define RESTIR_HOST_DEVICE __host__ __device__
+#define RESTIR_DEVICE_COMPILER 1
+#else
+#define RESTIR_HOST_DEVICE
+#define RESTIR_DEVICE_COMPILER 0
+#endif
+
+/// Debug assertion on internal invariants. Define RESTIR_ASSERT before including any restir
+/// header to route it elsewhere; by default it follows `assert` (off under NDEBUG).
+#ifndef RESTIR_ASSERT
+#include <cassert>
+#define RESTIR_ASSERT(condition) assert(condition)
+#endif

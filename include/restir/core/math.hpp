@@ -1,0 +1,49 @@
+/// @file core/math.hpp
+/// Small numeric helpers shared by the sampling code; all device-callable.
+#pragma once
+
+#include "restir/config.hpp"
+
+#include <cstdint>
+
+namespace restir {
+
+/// True when `x` is neither NaN nor infinite. Written on the bit pattern so that it stays
+/// correct under -ffast-math, where `std::isfinite` may be folded to `true`.
+RESTIR_HOST_DEVICE constexpr bool is_finite(float x) noexcept {
+    const auto bits = __builtin_bit_cast(std::uint32_t, x);
+    return (bits & 0x7f800000u) != 0x7f800000u;
+}
+
+/// A usable resampling weight or pdf: finite and not negative.
+RESTIR_HOST_DEVICE constexpr bool is_valid_weight(float w) noexcept {
+    return is_finite(w) && w >= 0.0f;
+}
+
+/// `numerator / denominator`, or 0 where the denominator is 0 or the result is not finite.
+RESTIR_HOST_DEVICE constexpr float safe_divide(float numerator, float denominator) noexcept {
+    if (denominator == 0.0f)
+        return 0.0f;
+    const float q = numerator / denominator;
+    return is_finite(q) ? q : 0.0f;
+}
+
+/// Smallest of two values, device-callable (std::min is not annotated for CUDA).
+template <class T>
+RESTIR_HOST_DEVICE constexpr T min_of(T a, T b) noexcept {
+    return b < a ? b : a;
+}
+
+/// Largest of two values, device-callable.
+template <class T>
+RESTIR_HOST_DEVICE constexpr T max_of(T a, T b) noexcept {
+    return a < b ? b : a;
+}
+
+/// Index in [0, count) from a uniform number u in [0, 1); robust to u rounding up to 1.
+RESTIR_HOST_DEVICE constexpr std::uint32_t uniform_index(float u, std::uint32_t count) noexcept {
+    const auto i = static_cast<std::uint32_t>(u * static_cast<float>(count));
+    return i < count ? i : count - 1u;
+}
+
+} // namespace restir

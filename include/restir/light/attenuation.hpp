@@ -1,0 +1,44 @@
+/// @file light/attenuation.hpp
+/// Distance falloff of point lights and VPLs without the 1/d^2 singularity.
+#pragma once
+
+#include "restir/config.hpp"
+#include "restir/core/math.hpp"
+
+#include <cmath>
+
+namespace restir {
+
+/// Yuksel's point-light attenuation (Yuksel 2020, "Point Light Attenuation Without
+/// Singularity"): the irradiance falloff of a point light spread over a sphere of radius r,
+///   f(d) = 2 / (d^2 + r^2 + d * sqrt(d^2 + r^2)).
+/// f(0) = 2 / r^2 is finite, f(d) -> 1/d^2 as d / r grows, and f(d) < 1/d^2 everywhere.
+/// `radius` must be positive; with radius 0 this is exactly 1/d^2.
+RESTIR_HOST_DEVICE inline float yuksel_attenuation(float distance, float radius) noexcept {
+    const float d2 = distance * distance;
+    const float r2 = radius * radius;
+    return 2.0f / (d2 + r2 + distance * std::sqrt(d2 + r2));
+}
+
+/// Plain inverse-square falloff with the distance clamped from below:
+///   f(d) = 1 / max(d, d_min)^2, at most 1 / d_min^2.
+RESTIR_HOST_DEVICE inline float clamped_inverse_square(float distance,
+                                                       float min_distance) noexcept {
+    const float d = max_of(distance, min_distance);
+    return 1.0f / (d * d);
+}
+
+/// Which falloff a point light or VPL uses.
+enum class Attenuation {
+    yuksel,                 ///< `yuksel_attenuation`, parameter = sphere radius r.
+    clamped_inverse_square, ///< `clamped_inverse_square`, parameter = minimum distance.
+};
+
+/// Falloff of the chosen kind; `parameter` is the radius or the minimum distance.
+RESTIR_HOST_DEVICE inline float attenuate(Attenuation kind, float distance,
+                                          float parameter) noexcept {
+    return kind == Attenuation::yuksel ? yuksel_attenuation(distance, parameter)
+                                       : clamped_inverse_square(distance, parameter);
+}
+
+} // namespace restir

@@ -1,0 +1,37 @@
+/// @file light/light_sample.hpp
+/// How a light sample is stored (a reference: light id + uv) and what evaluating it gives
+/// (a point on the light with its normal, emitted radiance and density).
+#pragma once
+
+#include "restir/config.hpp"
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <type_traits>
+
+namespace restir {
+
+/// A light sample as reservoirs store it: which light, and where on it. Reused samples are
+/// re-evaluated from this reference at each surface that reuses them, so nothing in it
+/// depends on the surface that drew it. 12 bytes.
+struct LightSampleRef {
+    std::uint32_t light_id = 0u;
+    glm::vec2 uv{0.0f}; ///< Primary sample-space point on the light, in [0, 1)^2.
+};
+
+/// A point on a light, as a light set evaluates a `LightSampleRef`. Point lights and VPLs
+/// are the degenerate case: the same point for every uv, `area_pdf` of 1 and `is_delta`.
+struct LightSample {
+    glm::vec3 position{0.0f};
+    glm::vec3 normal{0.0f, 0.0f, 1.0f}; ///< Emitting side of an area light; VPL surface normal.
+    glm::vec3 radiance{0.0f}; ///< Emitted radiance toward the receiver side (intensity for points).
+    float area_pdf = 0.0f;    ///< Density of the point per unit area of the light, given the light.
+    bool is_delta = false;    ///< True for point lights and VPLs (no area measure).
+};
+
+static_assert(std::is_trivially_copyable_v<LightSampleRef>);
+static_assert(std::is_trivially_copyable_v<LightSample>);
+
+} // namespace restir

@@ -1,0 +1,64 @@
+/// @file light/light_sampler.hpp
+/// The light-sampler contract (the source distribution of RIS candidates) and the two
+/// samplers the library ships: uniform, and proportional to power through an alias table.
+#pragma once
+
+#include "restir/config.hpp"
+#include "restir/core/discrete_sample.hpp"
+#include "restir/core/math.hpp"
+#include "restir/sampling/alias_table.hpp"
+
+#include <concepts>
+#include <cstdint>
+
+namespace restir {
+
+/// Chooses a light id. Required expressions, for `const S s`, floats `u0, u1` in [0, 1) and
+/// `std::uint32_t id`:
+///   `s.sample(u0, u1)`  -> DiscreteSample {light id, pmf}; pmf 0 means "no light".
+///   `s.pmf(id)`         -> float, the probability that `sample` returns `id`.
+///   `s.light_count()`   -> std::uint32_t.
+/// Sampling must cost O(1) per call so that candidate generation does not grow with the
+/// number of lights.
+template <class S>
+concept LightSampler = requires(const S& s, float u, std::uint32_t id) {
+    { s.sample(u, u) } -> std::same_as<DiscreteSample>;
+    { s.pmf(id) } -> std::convertible_to<float>;
+    { s.light_count() } -> std::convertible_to<std::uint32_t>;
+};
+
+/// Every light with probability 1 / N.
+struct UniformLightSampler {
+    std::uint32_t count = 0u; ///< N, the number of lights.
+
+    RESTIR_HOST_DEVICE constexpr DiscreteSample sample(float u0, float /*u1*/) const noexcept {
+        if (count == 0u)
+            return {};
+        return {uniform_index(u0, count), 1.0f / static_cast<float>(count)};
+    }
+    RESTIR_HOST_DEVICE constexpr float pmf(std::uint32_t id) const noexcept {
+        return id < count ? 1.0f / static_cast<float>(count) : 0.0f;
+    }
+    RESTIR_HOST_DEVICE constexpr std::uint32_t light_count() const noexcept { return count; }
+};
+
+/// Lights with probability proportional to a weight (typically emitted power), in O(1)
+/// through an alias table. Holds a view: the `AliasTable` it came from must outlive it.
+struct PowerLightSampler {
+    AliasTableView table;
+
+    RESTIR_HOST_DEVICE constexpr DiscreteSample sample(float u0, float u1) const noexcept {
+        return table.sample(u0, u1);
+    }
+    RESTIR_HOST_DEVICE constexpr float pmf(std::uint32_t id) const noexcept {
+        return table.pmf(id);
+    }
+    RESTIR_HOST_DEVICE constexpr std::uint32_t light_count() const noexcept {
+        return table.size;
+    }
+};
+
+static_assert(LightSampler<UniformLightSampler>);
+static_assert(LightSampler<PowerLightSampler>);
+
+} // namespace restir
