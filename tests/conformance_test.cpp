@@ -1,0 +1,111 @@
+// Every template instantiated with the minimal stub types of tests/support/stub_bridge.hpp,
+// and the types each concept rejects.
+#include <restir/restir.hpp>
+
+#include "support/stub_bridge.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace {
+
+// --- What the concepts accept ------------------------------------------------------------
+static_assert(restir::UniformRng<stub::Rng>);
+static_assert(restir::UniformRng<restir::Pcg32>);
+static_assert(restir::Surface<stub::Surface>);
+static_assert(restir::TargetFunction<stub::Target, stub::Sample, stub::Surface>);
+static_assert(restir::LightSet<stub::LightSet>);
+static_assert(restir::LightPoint<restir::LightSample>);
+static_assert(restir::LightSampler<stub::LightSampler>);
+static_assert(restir::RayQuery<stub::RayQuery>);
+
+} // namespace
+
+// --- What they reject (declared only: concepts never call them) ---------------------------
+namespace rejected {
+struct DoubleRng {};
+double next_float(DoubleRng&);
+static_assert(!restir::UniformRng<DoubleRng>, "next_float must return float");
+static_assert(!restir::UniformRng<int>, "no next_float for int");
+
+struct SurfaceWithoutDepth {};
+glm::vec3 surface_position(const SurfaceWithoutDepth&);
+glm::vec3 surface_normal(const SurfaceWithoutDepth&);
+bool is_valid_surface(const SurfaceWithoutDepth&);
+static_assert(!restir::Surface<SurfaceWithoutDepth>, "surface_depth is required");
+
+struct TargetReturningPointer {
+    const char* operator()(const stub::Sample&, const stub::Surface&) const;
+};
+static_assert(!restir::TargetFunction<TargetReturningPointer, stub::Sample, stub::Surface>);
+static_assert(!restir::TargetFunction<stub::Target, stub::Sample, int>, "wrong surface type");
+
+struct LightSetWithoutCount {
+    restir::LightSample sample_point(std::uint32_t, glm::vec2) const;
+};
+static_assert(!restir::LightSet<LightSetWithoutCount>);
+
+struct PointWithoutPdf {
+    glm::vec3 position, normal, radiance;
+    bool is_delta;
+};
+struct LightSetReturningIncompletePoints {
+    std::uint32_t light_count() const;
+    PointWithoutPdf sample_point(std::uint32_t, glm::vec2) const;
+};
+static_assert(!restir::LightSet<LightSetReturningIncompletePoints>, "area_pdf is required");
+
+struct SamplerWithOneNumber {
+    restir::DiscreteSample sample(float) const;
+    float pmf(std::uint32_t) const;
+    std::uint32_t light_count() const;
+};
+static_assert(!restir::LightSampler<SamplerWithOneNumber>, "sample takes two numbers");
+
+struct MutableRayQuery {
+    bool occluded(glm::vec3, glm::vec3); // not const
+};
+static_assert(!restir::RayQuery<MutableRayQuery>, "queries must be const-callable");
+
+} // namespace rejected
+
+namespace {
+
+// --- Every template with the stub types ----------------------------------------------------
+TEST(Conformance, TemplatesInstantiateWithStubTypes) {
+    stub::Rng rng;
+    const stub::Surface surface{0.5f};
+    const stub::Target target;
+    const stub::LightSet lights;
+    const stub::LightSampler sampler;
+    const stub::RayQuery query;
+
+    const auto draw = [&](stub::Rng& r) {
+        const restir::DiscreteSample c = sampler.sample(next_float(r), next_float(r));
+        return restir::SourceSample<stub::Sample>{{c.index}, c.pmf};
+    };
+    const auto at_surface = [&](const stub::Sample& s) { return target(s, surface); };
+    restir::Reservoir<stub::Sample> r = restir::resample_ris(rng, 4u, draw, at_surface);
+    EXPECT_EQ(r.candidate_count, 4u);
+    EXPECT_TRUE(r.has_sample());
+
+    const restir::SourceStrategy strategy{2u, [](stub::Rng&) { return stub::Sample{0u}; },
+                                          [](const stub::Sample&) { return 1.0f; }};
+    const auto mis = restir::resample_ris_mis(rng, at_surface, strategy, strategy);
+    EXPECT_EQ(mis.candidate_count, 4u);
+
+    restir::Reservoir<stub::Sample> merged;
+    merged.merge(r, target(r.sample, surface), next_float(rng));
+    merged.merge_with_mis(mis, target(mis.sample, surface), 0.5f, next_float(rng));
+    merged.stream_lazy(1.0f, 1.0f, next_float(rng), [] { return stub::Sample{1u}; });
+    merged.cap_candidate_count(3u);
+    merged.finalize();
+    EXPECT_TRUE(merged.is_well_formed());
+
+    const restir::LightSample point = lights.sample_point(r.sample.id, glm::vec2(0.5f));
+    EXPECT_FALSE(query.occluded(surface_position(surface), point.position));
+}
+
+} // namespace

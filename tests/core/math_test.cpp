@@ -1,0 +1,41 @@
+#include <restir/core/math.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <limits>
+
+namespace {
+
+constexpr float nan = std::numeric_limits<float>::quiet_NaN();
+constexpr float inf = std::numeric_limits<float>::infinity();
+
+TEST(Math, FiniteAndValidWeights) {
+    static_assert(restir::is_finite(1.0f) && restir::is_finite(-3.0f) && restir::is_finite(0.0f));
+    EXPECT_FALSE(restir::is_finite(nan));
+    EXPECT_FALSE(restir::is_finite(inf));
+    EXPECT_FALSE(restir::is_finite(-inf));
+    EXPECT_TRUE(restir::is_valid_weight(0.0f));
+    EXPECT_TRUE(restir::is_valid_weight(std::numeric_limits<float>::max()));
+    EXPECT_FALSE(restir::is_valid_weight(-1e-30f));
+    EXPECT_FALSE(restir::is_valid_weight(nan));
+    EXPECT_FALSE(restir::is_valid_weight(inf));
+}
+
+TEST(Math, SafeDivideNeverReturnsNonFinite) {
+    EXPECT_EQ(restir::safe_divide(3.0f, 2.0f), 1.5f);
+    EXPECT_EQ(restir::safe_divide(3.0f, 0.0f), 0.0f);
+    EXPECT_EQ(restir::safe_divide(std::numeric_limits<float>::max(), 1e-30f), 0.0f);
+    EXPECT_EQ(restir::safe_divide(nan, 1.0f), 0.0f);
+}
+
+TEST(Math, UniformIndexStaysInRange) {
+    EXPECT_EQ(restir::uniform_index(0.0f, 10u), 0u);
+    EXPECT_EQ(restir::uniform_index(0.999f, 10u), 9u);
+    // The largest float below 1, times a count that float cannot represent, may round to
+    // the count itself; the index must still be valid.
+    for (std::uint32_t count : {16'777'217u, 16'777'219u, 33'554'435u, 4'294'967'295u})
+        EXPECT_LT(restir::uniform_index(0x1.fffffep-1f, count), count) << count;
+}
+
+} // namespace

@@ -1,0 +1,61 @@
+#include <restir/light/attenuation.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace {
+
+using restir::clamped_inverse_square;
+using restir::yuksel_attenuation;
+
+TEST(YukselAttenuation, IsFiniteAtZeroDistance) {
+    for (float r : {0.01f, 0.1f, 1.0f, 5.0f})
+        EXPECT_FLOAT_EQ(yuksel_attenuation(0.0f, r), 2.0f / (r * r)) << r;
+}
+
+TEST(YukselAttenuation, StaysBelowInverseSquare) {
+    const float r = 0.5f;
+    for (float d = 0.01f; d < 100.0f; d *= 1.3f)
+        EXPECT_LT(yuksel_attenuation(d, r), 1.0f / (d * d)) << d;
+}
+
+TEST(YukselAttenuation, ConvergesToInverseSquareFarAway) {
+    // f(d) d^2 = 2 / (1 + s + sqrt(1 + s)) with s = r^2 / d^2, so 1 - f d^2 ~ 3s/4.
+    const float r = 0.2f;
+    for (float d : {10.0f, 100.0f}) {
+        const double s = static_cast<double>(r * r) / static_cast<double>(d * d);
+        const double ratio = static_cast<double>(yuksel_attenuation(d, r) * d * d);
+        EXPECT_NEAR(1.0 - ratio, 0.75 * s, 0.5 * s) << d;
+    }
+    EXPECT_NEAR(yuksel_attenuation(1000.0f, r) * 1e6f, 1.0f, 1e-6f);
+}
+
+TEST(YukselAttenuation, DecreasesWithDistance) {
+    float previous = yuksel_attenuation(0.0f, 0.3f);
+    for (float d = 0.001f; d < 50.0f; d *= 1.1f) {
+        const float current = yuksel_attenuation(d, 0.3f);
+        EXPECT_LT(current, previous) << d;
+        previous = current;
+    }
+}
+
+TEST(YukselAttenuation, ZeroRadiusIsInverseSquare) {
+    for (float d : {0.5f, 1.0f, 3.0f})
+        EXPECT_FLOAT_EQ(yuksel_attenuation(d, 0.0f), 1.0f / (d * d));
+}
+
+TEST(ClampedInverseSquare, ClampsBelowTheMinimumDistance) {
+    EXPECT_FLOAT_EQ(clamped_inverse_square(0.0f, 0.5f), 4.0f);
+    EXPECT_FLOAT_EQ(clamped_inverse_square(0.25f, 0.5f), 4.0f);
+    EXPECT_FLOAT_EQ(clamped_inverse_square(2.0f, 0.5f), 0.25f);
+}
+
+TEST(Attenuation, DispatchesOnTheKind) {
+    EXPECT_EQ(restir::attenuate(restir::Attenuation::yuksel, 1.0f, 0.3f),
+              yuksel_attenuation(1.0f, 0.3f));
+    EXPECT_EQ(restir::attenuate(restir::Attenuation::clamped_inverse_square, 0.1f, 0.3f),
+              clamped_inverse_square(0.1f, 0.3f));
+}
+
+} // namespace
