@@ -15,9 +15,16 @@ nvcc_bin=$(command -v nvcc || true)
 [ -z "$nvcc_bin" ] && [ -x /usr/local/cuda/bin/nvcc ] && nvcc_bin=/usr/local/cuda/bin/nvcc
 if [ -n "$nvcc_bin" ]; then
   # 20012: GLM's own defaulted constructors carry __host__ __device__, which nvcc notes.
-  "$nvcc_bin" -std=c++20 -Iinclude -diag-suppress 20012 -Werror all-warnings \
-    -c tests/cuda/kernel_compile.cu -o "${TMPDIR:-/tmp}/restir_kernel_compile.o"
-  echo "passed: tests/cuda/kernel_compile.cu compiles with $("$nvcc_bin" --version | tail -1)"
+  nvcc_flags=(-std=c++20 -Iinclude -fmad=false -diag-suppress 20012 -Werror all-warnings)
+  mkdir -p build/cuda
+  "$nvcc_bin" "${nvcc_flags[@]}" -c tests/cuda/kernel_compile.cu -o build/cuda/kernel_compile.o
+  "$nvcc_bin" "${nvcc_flags[@]}" tests/cuda/device_check.cu -o build/cuda/device_check
+  echo "passed: tests/cuda/*.cu compile with $("$nvcc_bin" --version | tail -1)"
+  if nvidia-smi -L >/dev/null 2>&1; then
+    build/cuda/device_check
+  else
+    echo "skipped: no GPU to run build/cuda/device_check (GPU vs CPU results)"
+  fi
 else
   echo "skipped: no nvcc"
 fi

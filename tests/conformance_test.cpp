@@ -83,7 +83,7 @@ TEST(Conformance, TemplatesInstantiateWithStubTypes) {
     const stub::RayQuery query;
 
     const auto draw = [&](stub::Rng& r) {
-        const restir::DiscreteSample c = sampler.sample(next_float(r), next_float(r));
+        const restir::DiscreteSample c = restir::sample_light(sampler, r);
         return restir::SourceSample<stub::Sample>{{c.index}, c.pmf};
     };
     const auto at_surface = [&](const stub::Sample& s) { return target(s, surface); };

@@ -10,7 +10,7 @@ int main() {
     const restir::PowerLightSampler sampler{table.view()};
     restir::Pcg32 rng = restir::make_pixel_rng(0u, 0u, 0u);
     const auto draw = [&](restir::Pcg32& r) {
-        const restir::DiscreteSample c = sampler.sample(next_float(r), next_float(r));
+        const restir::DiscreteSample c = restir::sample_light(sampler, r);
         return restir::SourceSample<std::uint32_t>{c.index, c.pmf};
     };
     const auto target = [&](std::uint32_t light) { return power[light]; };

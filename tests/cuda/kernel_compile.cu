@@ -13,8 +13,10 @@ struct UniformDraw {
     RESTIR_HOST_DEVICE restir::SourceSample<restir::LightSampleRef>
     operator()(restir::Pcg32& rng) const {
         const restir::UniformLightSampler sampler{light_count};
-        const restir::DiscreteSample choice = sampler.sample(next_float(rng), next_float(rng));
-        return {{choice.index, glm::vec2(next_float(rng), next_float(rng))}, choice.pmf};
+        const restir::DiscreteSample choice = restir::sample_light(sampler, rng);
+        const float u = next_float(rng);
+        const float v = next_float(rng);
+        return {{choice.index, glm::vec2(u, v)}, choice.pmf};
     }
 };
 
@@ -44,7 +46,7 @@ __global__ void ris_kernel(const glm::vec3* light_positions, std::uint32_t light
     reservoir.sanitize();
 
     const restir::PowerLightSampler power{restir::AliasTableView{alias_entries, light_count}};
-    const restir::DiscreteSample choice = power.sample(next_float(rng), next_float(rng));
+    const restir::DiscreteSample choice = restir::sample_light(power, rng);
     out[pixel] = reservoir.contribution_weight * target(reservoir.sample) + choice.pmf +
                  restir::attenuate(restir::Attenuation::clamped_inverse_square, 1.0f, 0.5f);
 }

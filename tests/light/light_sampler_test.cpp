@@ -16,7 +16,7 @@ TEST(UniformLightSampler, SamplesEveryLightEqually) {
     std::vector<double> histogram(10, 0.0);
     restir::Pcg32 rng = restir::make_pixel_rng(0u, 0u, 0u, 8u);
     for (int i = 0; i < 100'000; ++i) {
-        const restir::DiscreteSample s = sampler.sample(next_float(rng), next_float(rng));
+        const restir::DiscreteSample s = restir::sample_light(sampler, rng);
         ASSERT_FLOAT_EQ(s.pmf, 0.1f);
         histogram[s.index] += 1.0;
     }

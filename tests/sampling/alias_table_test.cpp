@@ -24,7 +24,8 @@ std::vector<double> histogram_of(const AliasTable& table, int draws, std::uint64
     std::vector<double> histogram(table.size(), 0.0);
     restir::Pcg32 rng = restir::make_pixel_rng(0u, 0u, 0u, seed);
     for (int i = 0; i < draws; ++i) {
-        const restir::DiscreteSample s = table.sample(next_float(rng), next_float(rng));
+        const float u_bucket = next_float(rng);
+        const restir::DiscreteSample s = table.sample(u_bucket, next_float(rng));
         histogram[s.index] += 1.0;
         EXPECT_EQ(s.pmf, table.pmf(s.index));
     }

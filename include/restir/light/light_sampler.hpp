@@ -6,6 +6,7 @@
 #include "restir/config.hpp"
 #include "restir/core/discrete_sample.hpp"
 #include "restir/core/math.hpp"
+#include "restir/core/rng.hpp"
 #include "restir/sampling/alias_table.hpp"
 
 #include <concepts>
@@ -53,10 +54,18 @@ struct PowerLightSampler {
     RESTIR_HOST_DEVICE constexpr float pmf(std::uint32_t id) const noexcept {
         return table.pmf(id);
     }
-    RESTIR_HOST_DEVICE constexpr std::uint32_t light_count() const noexcept {
-        return table.size;
-    }
+    RESTIR_HOST_DEVICE constexpr std::uint32_t light_count() const noexcept { return table.size; }
 };
+
+/// Draws a light with two numbers taken from `rng` in a fixed order. Prefer it to
+/// `s.sample(next_float(rng), next_float(rng))`, whose argument order is up to the compiler:
+/// host and device builds would then choose different lights from the same seed.
+template <LightSampler S, UniformRng Rng>
+RESTIR_HOST_DEVICE constexpr DiscreteSample sample_light(const S& sampler, Rng& rng) {
+    const float u_first = next_float(rng);
+    const float u_second = next_float(rng);
+    return sampler.sample(u_first, u_second);
+}
 
 static_assert(LightSampler<UniformLightSampler>);
 static_assert(LightSampler<PowerLightSampler>);
