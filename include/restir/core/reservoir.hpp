@@ -36,6 +36,7 @@ struct Reservoir {
     /// Alg. 2 of Bitterli et al. 2020: w_sum += w; M += 1; keep with probability w / w_sum.
     RESTIR_HOST_DEVICE constexpr bool stream(const Sample& candidate, float weight, float target,
                                              float u) noexcept {
+        RESTIR_ASSERT(u >= 0.0f && u < 1.0f);
         if (!add_weight(weight, u, 1u))
             return false;
         sample = candidate;

@@ -15,6 +15,7 @@ namespace restir {
 /// f(0) = 2 / r^2 is finite, f(d) -> 1/d^2 as d / r grows, and f(d) < 1/d^2 everywhere.
 /// `radius` must be positive; with radius 0 this is exactly 1/d^2.
 RESTIR_HOST_DEVICE inline float yuksel_attenuation(float distance, float radius) noexcept {
+    RESTIR_ASSERT(distance >= 0.0f && radius >= 0.0f);
     const float d2 = distance * distance;
     const float r2 = radius * radius;
     return 2.0f / (d2 + r2 + distance * std::sqrt(d2 + r2));
@@ -24,6 +25,7 @@ RESTIR_HOST_DEVICE inline float yuksel_attenuation(float distance, float radius)
 ///   f(d) = 1 / max(d, d_min)^2, at most 1 / d_min^2.
 RESTIR_HOST_DEVICE inline float clamped_inverse_square(float distance,
                                                        float min_distance) noexcept {
+    RESTIR_ASSERT(min_distance > 0.0f);
     const float d = max_of(distance, min_distance);
     return 1.0f / (d * d);
 }

@@ -42,6 +42,7 @@ struct AliasTableView {
                                                        float u_choice) const noexcept {
         if (size == 0u)
             return {};
+        RESTIR_ASSERT(entries != nullptr);
         const std::uint32_t bucket = uniform_index(u_bucket, size);
         const AliasEntry& entry = entries[bucket];
         const std::uint32_t index = u_choice < entry.threshold ? bucket : entry.alias;
