@@ -6,8 +6,8 @@
 #pragma once
 
 #include "restir/core/rng.hpp"
-#include "restir/light/light_sampler.hpp"
 #include "restir/light/light_sample.hpp"
+#include "restir/light/light_sampler.hpp"
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>

@@ -47,8 +47,8 @@ TEST(Pcg32, FloatsAreUniform) {
     std::vector<double> histogram(bins, 0.0);
     for (int i = 0; i < draws; ++i)
         histogram[static_cast<std::size_t>(next_float(rng) * bins)] += 1.0;
-    EXPECT_TRUE(restir::test::fits_distribution(histogram, std::vector<double>(bins, 1.0 / bins),
-                                                0.01));
+    EXPECT_TRUE(
+        restir::test::fits_distribution(histogram, std::vector<double>(bins, 1.0 / bins), 0.01));
 }
 
 TEST(PixelRng, IsDeterministicForTheSameCounters) {
@@ -83,8 +83,8 @@ TEST(PixelRng, FirstNumbersAcrossNeighbouringPixelsAreUniform) {
         Pcg32 rng = restir::make_pixel_rng(pixel, 0u, 0u);
         histogram[static_cast<std::size_t>(next_float(rng) * bins)] += 1.0;
     }
-    EXPECT_TRUE(restir::test::fits_distribution(histogram, std::vector<double>(bins, 1.0 / bins),
-                                                0.01));
+    EXPECT_TRUE(
+        restir::test::fits_distribution(histogram, std::vector<double>(bins, 1.0 / bins), 0.01));
 }
 
 } // namespace

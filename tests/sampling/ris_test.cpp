@@ -27,13 +27,9 @@ double integrand(float x) {
     return 1.0 + xd * xd + 0.5 * std::sin(6.0 * xd);
 }
 const double integrand_integral = 4.0 / 3.0 + 0.5 * (1.0 - std::cos(6.0)) / 6.0;
-float rough_target(float x) {
-    return 1.0f + x * x;
-}
+float rough_target(float x) { return 1.0f + x * x; }
 
-SourceSample<float> draw_uniform(Pcg32& rng) {
-    return {next_float(rng), 1.0f};
-}
+SourceSample<float> draw_uniform(Pcg32& rng) { return {next_float(rng), 1.0f}; }
 // p(x) = 2x by inversion: x = sqrt(u).
 SourceSample<float> draw_linear(Pcg32& rng) {
     const float x = std::sqrt(next_float(rng));

@@ -113,8 +113,7 @@ inline Chi2Result pearson_chi2(const std::vector<double>& observed,
 /// GoogleTest predicate: the histogram of `samples` (indices in [0, pmf.size())) fits `pmf`
 /// at significance `alpha`. On failure the message carries the statistic and histogram.
 inline ::testing::AssertionResult fits_distribution(const std::vector<double>& observed,
-                                                    const std::vector<double>& pmf,
-                                                    double alpha) {
+                                                    const std::vector<double>& pmf, double alpha) {
     double total = 0.0;
     for (double count : observed)
         total += count;

@@ -41,8 +41,8 @@ inline ::testing::AssertionResult agrees_with(const RunningStats& stats, double 
         return ::testing::AssertionSuccess();
     return ::testing::AssertionFailure()
            << "mean " << stats.mean() << " vs truth " << truth << ": |error| " << error
-           << " is not below " << sigmas << " standard errors (" << bound << ", "
-           << stats.count() << " trials)";
+           << " is not below " << sigmas << " standard errors (" << bound << ", " << stats.count()
+           << " trials)";
 }
 
 /// The estimator's mean lies more than `sigmas` measured standard errors from `value`:
@@ -53,8 +53,8 @@ inline ::testing::AssertionResult differs_from(const RunningStats& stats, double
     const double bound = sigmas * stats.standard_error();
     if (error > bound)
         return ::testing::AssertionSuccess();
-    return ::testing::AssertionFailure() << "mean " << stats.mean() << " is within " << sigmas
-                                         << " standard errors of " << value;
+    return ::testing::AssertionFailure()
+           << "mean " << stats.mean() << " is within " << sigmas << " standard errors of " << value;
 }
 
 } // namespace restir::test

@@ -60,9 +60,7 @@ struct Pcg32 {
 };
 
 /// `UniformRng` hook for Pcg32.
-RESTIR_HOST_DEVICE constexpr float next_float(Pcg32& rng) noexcept {
-    return rng.next_unit_float();
-}
+RESTIR_HOST_DEVICE constexpr float next_float(Pcg32& rng) noexcept { return rng.next_unit_float(); }
 
 /// Counter-based seeding: a generator determined only by (pixel, frame, pass, seed).
 /// Every tuple gets its own state and its own stream, so a pixel's random numbers are the

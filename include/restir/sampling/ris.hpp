@@ -31,16 +31,15 @@ struct SourceSample {
 /// applies), W = w_sum / (M p-hat(y)) (Eq. 6). f(y) * W is an unbiased estimate of the
 /// integral of f wherever p(x) > 0 at every x with f(x) p-hat(x) != 0 (see docs/algorithms.md).
 template <UniformRng Rng, class Draw, class Target>
-    requires std::invocable<Draw&, Rng&>
-RESTIR_HOST_DEVICE auto resample_ris(Rng& rng, std::uint32_t candidate_count, Draw&& draw,
-                                     Target&& target) {
+requires std::invocable<Draw&, Rng&> RESTIR_HOST_DEVICE auto
+resample_ris(Rng& rng, std::uint32_t candidate_count, Draw&& draw, Target&& target) {
     using Sample = std::remove_cvref_t<decltype(draw(rng).sample)>;
     Reservoir<Sample> reservoir;
     for (std::uint32_t i = 0; i < candidate_count; ++i) {
         const SourceSample<Sample> candidate = draw(rng);
         const float target_value = target(candidate.sample);
-        reservoir.stream(candidate.sample, safe_divide(target_value, candidate.pdf),
-                         target_value, next_float(rng));
+        reservoir.stream(candidate.sample, safe_divide(target_value, candidate.pdf), target_value,
+                         next_float(rng));
     }
     reservoir.finalize();
     return reservoir;
@@ -82,8 +81,8 @@ RESTIR_HOST_DEVICE auto resample_ris_mis(Rng& rng, Target&& target, const FirstS
         for (std::uint32_t i = 0; i < strategy.candidate_count; ++i) {
             const Sample x = strategy.draw(rng);
             const float target_value = target(x);
-            reservoir.stream(x, safe_divide(target_value, weighted_density_sum(x)),
-                             target_value, next_float(rng));
+            reservoir.stream(x, safe_divide(target_value, weighted_density_sum(x)), target_value,
+                             next_float(rng));
         }
     };
     stream_from(first);

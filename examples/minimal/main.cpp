@@ -1,0 +1,185 @@
+// Minimal integration of restir: a diffuse ground plane lit by 2000 small point lights, seen by
+// an orthographic camera looking straight down. There is no ray tracer: nothing casts shadows.
+// The application exposes its own types through the bridge (restir/concepts.hpp) and renders
+// the scene three ways, one panel each, left to right:
+//   uniform   - one light chosen uniformly per pixel, estimate f(x) / pmf(x);
+//   RIS       - one light resampled from 32 power-sampled candidates, estimate f(y) * W;
+//   reference - the exact sum over all lights.
+// Usage: restir-minimal [OUTPUT.png]   (default out/minimal.png)
+#include <restir/restir.hpp>
+
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wconversion"
+#pragma GCC diagnostic ignored "-Wold-style-cast"
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+#define STB_IMAGE_WRITE_IMPLEMENTATION
+#include <stb/stb_image_write.h>
+#pragma GCC diagnostic pop
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <numbers>
+#include <vector>
+
+namespace toy {
+
+constexpr std::uint32_t kSize = 256; // Each panel is kSize x kSize pixels.
+constexpr std::uint32_t kLightCount = 2000;
+constexpr std::uint32_t kCandidates = 32; // RIS candidates per pixel.
+constexpr std::uint64_t kSeed = 7;
+constexpr float kAlbedo = 0.8f;
+constexpr float kLightRadius = 0.005f; // Yuksel attenuation radius: no 1/d^2 singularity.
+
+float luminance(glm::vec3 c) { return glm::dot(c, glm::vec3(0.2126f, 0.7152f, 0.0722f)); }
+
+// Bridge, surface: a G-buffer texel. Every pixel sees the plane y = 0 from a camera at y = 2.
+struct GroundPoint {
+    glm::vec3 position;
+};
+glm::vec3 surface_position(const GroundPoint& p) { return p.position; }
+glm::vec3 surface_normal(const GroundPoint&) { return {0.0f, 1.0f, 0.0f}; }
+float surface_depth(const GroundPoint& p) { return 2.0f - p.position.y; }
+bool is_valid_surface(const GroundPoint&) { return true; }
+
+// Bridge, light set: point lights are the same point for every uv, with area_pdf 1.
+struct PointLight {
+    glm::vec3 position;
+    glm::vec3 intensity;
+};
+struct PointLights {
+    std::vector<PointLight> lights;
+    std::uint32_t light_count() const { return static_cast<std::uint32_t>(lights.size()); }
+    restir::LightSample sample_point(std::uint32_t id, glm::vec2 /*uv*/) const {
+        return {.position = lights[id].position,
+                .radiance = lights[id].intensity,
+                .area_pdf = 1.0f,
+                .is_delta = true};
+    }
+};
+
+// Unshadowed contribution f of one light point: albedo / pi * I * cos(theta) * falloff(d).
+template <restir::Surface S, restir::LightPoint P>
+glm::vec3 shade(const S& surface, const P& light) {
+    const glm::vec3 to_light = light.position - surface_position(surface);
+    const float distance = glm::length(to_light);
+    const float cosine = std::max(glm::dot(surface_normal(surface), to_light) / distance, 0.0f);
+    return kAlbedo * std::numbers::inv_pi_v<float> * cosine *
+           restir::yuksel_attenuation(distance, kLightRadius) * light.radiance;
+}
+
+// Bridge, target function p-hat: the luminance of f.
+struct TargetLuminance {
+    const PointLights* lights;
+    float operator()(const restir::LightSampleRef& ref, const GroundPoint& surface) const {
+        return luminance(shade(surface, lights->sample_point(ref.light_id, ref.uv)));
+    }
+};
+
+static_assert(restir::Surface<GroundPoint>);
+static_assert(restir::LightSet<PointLights>);
+static_assert(restir::TargetFunction<TargetLuminance, restir::LightSampleRef, GroundPoint>);
+
+// Lights at random small heights, random tints, powers spanning three orders of magnitude.
+PointLights make_lights() {
+    restir::Pcg32 rng;
+    rng.seed(kSeed, 0u);
+    const auto u = [&] { return next_float(rng); };
+    PointLights set;
+    for (std::uint32_t i = 0; i < kLightCount; ++i) { // Braced lists evaluate left to right.
+        const glm::vec3 position{2.2f * u() - 1.1f, 0.03f + 0.15f * u(), 2.2f * u() - 1.1f};
+        const glm::vec3 tint{0.1f + u(), 0.1f + u(), 0.1f + u()};
+        const float power = std::pow(10.0f, 3.0f * u()); // 1 to 1000
+        set.lights.push_back({position, power * tint / (tint.r + tint.g + tint.b)});
+    }
+    return set;
+}
+
+} // namespace toy
+
+int main(int argc, char** argv) {
+    using namespace toy;
+    const std::filesystem::path output = argc > 1 ? argv[1] : "out/minimal.png";
+    const PointLights lights = make_lights();
+    const TargetLuminance target{&lights};
+
+    // Source distributions: uniform for the baseline, power (alias table) for RIS candidates.
+    const restir::UniformLightSampler uniform{lights.light_count()};
+    std::vector<float> powers;
+    for (const PointLight& light : lights.lights)
+        powers.push_back(luminance(light.intensity));
+    const restir::AliasTable table(powers);
+    const restir::PowerLightSampler power{table.view()};
+
+    constexpr std::uint32_t kPixels = kSize * kSize;
+    std::vector<glm::vec3> uniform_image(kPixels), ris_image(kPixels), reference(kPixels);
+    for (std::uint32_t pixel = 0; pixel < kPixels; ++pixel) {
+        const float x = (2.0f * float(pixel % kSize) + 1.0f) / kSize - 1.0f; // [-1, 1]
+        const float z = (2.0f * float(pixel / kSize) + 1.0f) / kSize - 1.0f;
+        const GroundPoint surface{{x, 0.0f, z}};
+
+        // Uniform: one light, f / pmf. Each estimator gets its own counter-based RNG pass.
+        restir::Pcg32 rng = restir::make_pixel_rng(pixel, /*frame=*/0u, /*pass=*/0u, kSeed);
+        const restir::DiscreteSample pick = restir::sample_light(uniform, rng);
+        uniform_image[pixel] = shade(surface, lights.sample_point(pick.index, {})) / pick.pmf;
+
+        // RIS: candidates x_i from the power sampler with pdf p(x_i), kept in proportion to
+        // p-hat(x_i) / p(x_i); W then makes f(y) * W an unbiased estimate of the full sum.
+        rng = restir::make_pixel_rng(pixel, /*frame=*/0u, /*pass=*/1u, kSeed);
+        const auto draw = [&](restir::Pcg32& r) {
+            const restir::DiscreteSample c = restir::sample_light(power, r);
+            return restir::SourceSample<restir::LightSampleRef>{{.light_id = c.index}, c.pmf};
+        };
+        const auto p_hat = [&](const restir::LightSampleRef& ref) { return target(ref, surface); };
+        const auto reservoir = restir::resample_ris(rng, kCandidates, draw, p_hat);
+        const restir::LightSampleRef& y = reservoir.sample;
+        ris_image[pixel] = shade(surface, lights.sample_point(y.light_id, y.uv)) *
+                           reservoir.contribution_weight; // W = 0 when nothing was kept.
+
+        for (std::uint32_t id = 0; id < lights.light_count(); ++id)
+            reference[pixel] += shade(surface, lights.sample_point(id, {}));
+    }
+
+    // Error against the reference, relative to its mean luminance.
+    double mean = 0.0;
+    for (const glm::vec3& c : reference)
+        mean += double(luminance(c)) / kPixels;
+    const auto relative_rmse = [&](const std::vector<glm::vec3>& image) {
+        double sum = 0.0;
+        for (std::uint32_t i = 0; i < kPixels; ++i)
+            sum += double(glm::dot(image[i] - reference[i], image[i] - reference[i]));
+        return std::sqrt(sum / (3.0 * kPixels)) / mean;
+    };
+    std::printf("relative RMSE, 1 sample per pixel: uniform %.3f, RIS (%u candidates) %.3f\n",
+                relative_rmse(uniform_image), kCandidates, relative_rmse(ris_image));
+
+    // Tone map (exposure from the reference's mean, clamp, sRGB curve); panels side by side.
+    constexpr std::uint32_t kGap = 4, kWidth = 3 * kSize + 2 * kGap;
+    const float exposure = 0.3f / float(mean);
+    std::vector<std::uint8_t> rgb(kWidth * kSize * 3, 24);
+    const std::vector<glm::vec3>* panels[] = {&uniform_image, &ris_image, &reference};
+    for (std::uint32_t p = 0; p < 3; ++p)
+        for (std::uint32_t i = 0; i < kPixels; ++i)
+            for (int c = 0; c < 3; ++c) {
+                const float v = std::clamp((*panels[p])[i][c] * exposure, 0.0f, 1.0f);
+                const float srgb =
+                    v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+                const std::uint32_t x = p * (kSize + kGap) + i % kSize, row = i / kSize;
+                rgb[(row * kWidth + x) * 3 + std::uint32_t(c)] = std::uint8_t(srgb * 255 + 0.5f);
+            }
+
+    std::error_code ignored; // A failure to create the directory shows up when writing.
+    if (output.has_parent_path())
+        std::filesystem::create_directories(output.parent_path(), ignored);
+    if (!stbi_write_png(output.string().c_str(), int(kWidth), int(kSize), 3, rgb.data(),
+                        int(kWidth * 3))) {
+        std::fprintf(stderr, "restir-minimal: cannot write %s\n", output.string().c_str());
+        return 1;
+    }
+    std::printf("wrote %s (%ux%u: uniform | RIS | reference)\n", output.string().c_str(), kWidth,
+                kSize);
+}
