@@ -35,7 +35,7 @@ std::vector<double> histogram_of(const AliasTable& table, int draws, std::uint64
 std::vector<double> pmf_of(const AliasTable& table) {
     std::vector<double> pmf;
     for (std::uint32_t i = 0; i < table.size(); ++i)
-        pmf.push_back(table.pmf(i));
+        pmf.push_back(static_cast<double>(table.pmf(i)));
     return pmf;
 }
 

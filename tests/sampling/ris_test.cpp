@@ -23,7 +23,7 @@ constexpr int trials = 40'000;
 
 // Integrand on [0, 1] with a closed-form integral, and a target that only approximates it.
 double integrand(float x) {
-    const double xd = x;
+    const auto xd = static_cast<double>(x);
     return 1.0 + xd * xd + 0.5 * std::sin(6.0 * xd);
 }
 const double integrand_integral = 4.0 / 3.0 + 0.5 * (1.0 - std::cos(6.0)) / 6.0;

@@ -30,9 +30,9 @@ struct SourceSample {
 /// Resampling weight w_i = p-hat(x_i) / p(x_i) (Eq. 5 without the 1/M, which `finalize`
 /// applies), W = w_sum / (M p-hat(y)) (Eq. 6). f(y) * W is an unbiased estimate of the
 /// integral of f wherever p(x) > 0 at every x with f(x) p-hat(x) != 0 (see docs/algorithms.md).
-template <UniformRng Rng, class Draw, class Target>
-requires std::invocable<Draw&, Rng&> RESTIR_HOST_DEVICE auto
-resample_ris(Rng& rng, std::uint32_t candidate_count, Draw&& draw, Target&& target) {
+template <UniformRng Rng, std::invocable<Rng&> Draw, class Target>
+RESTIR_HOST_DEVICE auto resample_ris(Rng& rng, std::uint32_t candidate_count, Draw&& draw,
+                                     Target&& target) {
     using Sample = std::remove_cvref_t<decltype(draw(rng).sample)>;
     Reservoir<Sample> reservoir;
     for (std::uint32_t i = 0; i < candidate_count; ++i) {
