@@ -15,9 +15,11 @@ RESTIR_HOST_DEVICE constexpr bool is_finite(float x) noexcept {
     return (bits & 0x7f800000u) != 0x7f800000u;
 }
 
-/// A usable resampling weight or pdf: finite and not negative.
+/// A usable resampling weight or pdf: finite and not negative. One unsigned comparison on
+/// the bit pattern: the sign bit must be clear and the exponent not all ones (-0 counts as
+/// invalid, which is harmless since it would weigh nothing).
 RESTIR_HOST_DEVICE constexpr bool is_valid_weight(float w) noexcept {
-    return is_finite(w) && w >= 0.0f;
+    return __builtin_bit_cast(std::uint32_t, w) < 0x7f800000u;
 }
 
 /// `numerator / denominator`, or 0 where the denominator is 0 or the result is not finite.

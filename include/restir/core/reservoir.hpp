@@ -129,13 +129,14 @@ private:
     RESTIR_HOST_DEVICE constexpr bool add_weight(float weight, float u,
                                                  std::uint32_t count) noexcept {
         candidate_count += count;
-        if (!is_valid_weight(weight) || weight == 0.0f)
-            return false;
-        const float new_sum = weight_sum + weight;
+        // Invalid weights become 0 without a branch: a zero weight is never selected, since
+        // u * w_sum < 0 is false for u >= 0.
+        const float accepted = is_valid_weight(weight) ? weight : 0.0f;
+        const float new_sum = weight_sum + accepted;
         if (!is_finite(new_sum))
             return false;
         weight_sum = new_sum;
-        return u * weight_sum < weight;
+        return u * weight_sum < accepted;
     }
 
     RESTIR_HOST_DEVICE constexpr bool merge_with_weight(const Reservoir& other, float weight,
