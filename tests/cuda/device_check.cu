@@ -26,7 +26,8 @@ struct FalloffTarget {
     const float* light_x;
     float receiver_x;
     RESTIR_HOST_DEVICE float operator()(const Candidate& c) const {
-        return restir::yuksel_attenuation(light_x[c.light] - receiver_x, 0.05f);
+        const float offset = light_x[c.light] - receiver_x;
+        return restir::yuksel_attenuation(offset < 0.0f ? -offset : offset, 0.05f);
     }
 };
 
