@@ -1,0 +1,54 @@
+/// @file reuse/neighbor_offsets.hpp
+/// A fixed low-discrepancy set of points in the unit disk, from which spatial reuse picks its
+/// neighbours: a random starting index per pixel, then consecutive entries, scaled by the
+/// radius. Consecutive points of the R2 sequence (Roberts 2018) cover the disk evenly, so any k
+/// consecutive ones are well spread, and the table is built at compile time.
+#pragma once
+
+#include "restir/config.hpp"
+
+#include <cstdint>
+
+namespace restir {
+
+/// A point of the unit disk.
+struct DiskOffset {
+    float x = 0.0f;
+    float y = 0.0f;
+};
+
+/// How many offsets the table holds (a power of two, so wrapping is a mask).
+inline constexpr std::uint32_t neighbor_offset_count = 64u;
+
+/// The offset table; trivially copyable, 512 bytes (GPU constant memory fits it).
+struct NeighborOffsets {
+    DiskOffset offsets[neighbor_offset_count];
+
+    /// Entry `i` modulo the table size.
+    RESTIR_HOST_DEVICE constexpr DiskOffset operator[](std::uint32_t i) const noexcept {
+        return offsets[i & (neighbor_offset_count - 1u)];
+    }
+};
+
+/// The R2 sequence x_n = frac(0.5 + n / g, 0.5 + n / g^2), g the plastic number, mapped to
+/// [-1, 1]^2; points outside the unit disk are skipped.
+constexpr NeighborOffsets make_neighbor_offsets() noexcept {
+    constexpr double plastic = 1.32471795724474602596;
+    constexpr double a1 = 1.0 / plastic;
+    constexpr double a2 = 1.0 / (plastic * plastic);
+    NeighborOffsets table{};
+    std::uint32_t filled = 0u;
+    for (std::uint32_t n = 1u; filled < neighbor_offset_count; ++n) {
+        double u = 0.5 + a1 * n;
+        double v = 0.5 + a2 * n;
+        u -= static_cast<double>(static_cast<std::uint64_t>(u));
+        v -= static_cast<double>(static_cast<std::uint64_t>(v));
+        const double x = 2.0 * u - 1.0;
+        const double y = 2.0 * v - 1.0;
+        if (x * x + y * y <= 1.0)
+            table.offsets[filled++] = {static_cast<float>(x), static_cast<float>(y)};
+    }
+    return table;
+}
+
+} // namespace restir

@@ -1,0 +1,90 @@
+/// @file reuse/spatial.hpp
+/// Spatial reuse (Bitterli et al. 2020, Sec. 4 and Alg. 5): the receiver's reservoir is
+/// combined with the reservoirs of k neighbours inside a radius, chosen from a fixed
+/// low-discrepancy offset set rotated by a random start per pixel. Run it any number of
+/// times, ping-ponging between two reservoir buffers.
+#pragma once
+
+#include "restir/concepts.hpp"
+#include "restir/config.hpp"
+#include "restir/core/math.hpp"
+#include "restir/core/reservoir.hpp"
+#include "restir/core/rng.hpp"
+#include "restir/reuse/bias_correction.hpp"
+#include "restir/reuse/image_view.hpp"
+#include "restir/reuse/neighbor_offsets.hpp"
+#include "restir/reuse/similarity.hpp"
+
+#include <cstdint>
+
+namespace restir {
+
+/// Settings of one spatial pass.
+struct SpatialParams {
+    ReuseParams reuse{};
+    SimilarityParams similarity{};
+    /// k: neighbours tried per pixel (the paper: 5 for the biased mode, 3 for unbiased ones).
+    /// At most max_reuse_inputs - 1.
+    std::uint32_t neighbour_count = 3u;
+    /// Radius of the neighbourhood in pixels (the paper's 30).
+    float radius = 30.0f;
+};
+
+/// The paper's unbiased settings: pairwise MIS, visibility reuse, k = 3 in 30 pixels.
+RESTIR_HOST_DEVICE constexpr SpatialParams default_spatial_params() noexcept { return {}; }
+
+/// The neighbours of `pixel` that may lend their reservoirs: k offsets taken consecutively
+/// from `offsets` from a random start, scaled by the radius and rounded; the pixel itself,
+/// pixels outside the image, dissimilar surfaces and non-finite reservoirs are skipped (not
+/// replaced). Writes them to `out` and returns how many there are. One uniform number.
+template <class Sample, Surface S, class MaterialTest, UniformRng Rng>
+RESTIR_HOST_DEVICE std::uint32_t gather_spatial_neighbours(
+    PixelCoord pixel, const S& surface, ImageView<const Reservoir<Sample>> reservoirs,
+    ImageView<const S> surfaces, const SpatialParams& params, const NeighborOffsets& offsets,
+    const MaterialTest& material_test, Rng& rng, ReuseInput<Sample, S>* out) {
+    const std::uint32_t wanted = min_of(params.neighbour_count, max_reuse_inputs - 1u);
+    const std::uint32_t start = uniform_index(next_float(rng), neighbor_offset_count);
+    std::uint32_t found = 0u;
+    for (std::uint32_t i = 0; i < wanted; ++i) {
+        const DiskOffset offset = offsets[start + i];
+        const PixelCoord neighbour{
+            pixel.x + static_cast<std::int32_t>(offset.x * params.radius +
+                                                (offset.x < 0.0f ? -0.5f : 0.5f)),
+            pixel.y + static_cast<std::int32_t>(offset.y * params.radius +
+                                                (offset.y < 0.0f ? -0.5f : 0.5f))};
+        if ((neighbour.x == pixel.x && neighbour.y == pixel.y) || !reservoirs.contains(neighbour) ||
+            !surfaces.contains(neighbour))
+            continue;
+        const S& neighbour_surface = surfaces[neighbour];
+        const Reservoir<Sample>& neighbour_reservoir = reservoirs[neighbour];
+        if (!neighbour_reservoir.is_well_formed() ||
+            !surfaces_similar(surface, neighbour_surface, params.similarity, material_test))
+            continue;
+        out[found++] = {&neighbour_reservoir, &neighbour_surface};
+    }
+    return found;
+}
+
+/// Spatial resampling of one pixel: its own reservoir from `reservoirs` combined with its
+/// neighbours' under `params.reuse`. Reads `reservoirs` and `surfaces` only; write the result
+/// to a different buffer. A pixel with an invalid surface keeps its reservoir.
+template <class Sample, Surface S, class Target, class Visibility, class MaterialTest,
+          UniformRng Rng>
+requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
+    RESTIR_HOST_DEVICE Reservoir<Sample>
+    spatial_resample(PixelCoord pixel, ImageView<const Reservoir<Sample>> reservoirs,
+                     ImageView<const S> surfaces, const SpatialParams& params,
+                     const NeighborOffsets& offsets,
+                     const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng) {
+    const Reservoir<Sample>& own = reservoirs[pixel];
+    const S& surface = surfaces[pixel];
+    if (!is_valid_surface(surface))
+        return own;
+    ReuseInput<Sample, S> neighbours[max_reuse_inputs];
+    const std::uint32_t count =
+        gather_spatial_neighbours(pixel, surface, reservoirs, surfaces, params, offsets,
+                                  bridge.material_test, rng, neighbours);
+    return combine_reservoirs(own, surface, neighbours, count, params.reuse, bridge, rng);
+}
+
+} // namespace restir

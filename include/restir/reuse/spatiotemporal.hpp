@@ -1,0 +1,69 @@
+/// @file reuse/spatiotemporal.hpp
+/// Fused spatiotemporal reuse (as in Wyman and Panteleev 2021): one resampling step that
+/// combines the receiver's fresh reservoir with the previous frame's reservoir at the
+/// reprojected pixel and with k previous-frame reservoirs around it. One pass instead of two,
+/// and no dependency on this frame's neighbours, at the price of reusing only history.
+#pragma once
+
+#include "restir/concepts.hpp"
+#include "restir/config.hpp"
+#include "restir/core/reservoir.hpp"
+#include "restir/core/rng.hpp"
+#include "restir/reuse/bias_correction.hpp"
+#include "restir/reuse/image_view.hpp"
+#include "restir/reuse/neighbor_offsets.hpp"
+#include "restir/reuse/similarity.hpp"
+#include "restir/reuse/spatial.hpp"
+#include "restir/reuse/temporal.hpp"
+
+#include <cstdint>
+
+namespace restir {
+
+/// Fused spatiotemporal resampling of one pixel. `temporal` supplies the bias correction,
+/// similarity, history cap and permutation; `spatial` the neighbour count and radius (its
+/// `reuse` and `similarity` are not used). Every previous-frame reservoir is capped at
+/// `temporal.history_cap_multiplier` times the current M. Without a usable history pixel
+/// (disocclusion) the neighbours around the reprojected position are still reused.
+template <class Sample, Surface S, Reprojection Reproject, class Target, class Visibility,
+          class MaterialTest, UniformRng Rng>
+requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
+    RESTIR_HOST_DEVICE Reservoir<Sample>
+    spatiotemporal_resample(PixelCoord pixel, const Reservoir<Sample>& current, const S& surface,
+                            ImageView<const Reservoir<Sample>> previous_reservoirs,
+                            ImageView<const S> previous_surfaces, const Reproject& reproject,
+                            const TemporalParams& temporal, const SpatialParams& spatial,
+                            const NeighborOffsets& offsets,
+                            const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng) {
+    if (!is_valid_surface(surface))
+        return current;
+    const PixelCoord previous = history_pixel(reproject(pixel), temporal);
+
+    ReuseInput<Sample, S> inputs[max_reuse_inputs];
+    std::uint32_t count = 0u;
+    if (previous_reservoirs.contains(previous) && previous_surfaces.contains(previous) &&
+        previous_reservoirs[previous].is_well_formed() &&
+        surfaces_similar(surface, previous_surfaces[previous], temporal.similarity,
+                         bridge.material_test))
+        inputs[count++] = {&previous_reservoirs[previous], &previous_surfaces[previous]};
+
+    SpatialParams neighbourhood = spatial;
+    neighbourhood.similarity = temporal.similarity;
+    neighbourhood.neighbour_count = min_of(spatial.neighbour_count, max_reuse_inputs - 1u - count);
+    count += gather_spatial_neighbours(previous, surface, previous_reservoirs, previous_surfaces,
+                                       neighbourhood, offsets, bridge.material_test, rng,
+                                       inputs + count);
+
+    // Cap every history at a multiple of the current M (copies: the buffers are read-only).
+    Reservoir<Sample> capped[max_reuse_inputs];
+    for (std::uint32_t i = 0; i < count; ++i) {
+        capped[i] = *inputs[i].reservoir;
+        if (temporal.history_cap_multiplier > 0u)
+            capped[i].cap_candidate_count(temporal.history_cap_multiplier *
+                                          current.candidate_count);
+        inputs[i].reservoir = &capped[i];
+    }
+    return combine_reservoirs(current, surface, inputs, count, temporal.reuse, bridge, rng);
+}
+
+} // namespace restir

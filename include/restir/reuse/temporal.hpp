@@ -1,0 +1,89 @@
+/// @file reuse/temporal.hpp
+/// Temporal reuse (Bitterli et al. 2020, Sec. 4 and Alg. 5): the receiver's fresh reservoir
+/// is combined with the previous frame's reservoir at the pixel that the application's
+/// reprojection names, when that pixel's surface is similar. The history's M is capped at a
+/// multiple of the current M so that stale samples cannot dominate.
+#pragma once
+
+#include "restir/concepts.hpp"
+#include "restir/config.hpp"
+#include "restir/core/reservoir.hpp"
+#include "restir/core/rng.hpp"
+#include "restir/reuse/bias_correction.hpp"
+#include "restir/reuse/image_view.hpp"
+#include "restir/reuse/similarity.hpp"
+
+#include <concepts>
+#include <cstdint>
+
+namespace restir {
+
+/// Settings of temporal reuse.
+struct TemporalParams {
+    ReuseParams reuse{};
+    SimilarityParams similarity{};
+    /// The history's M is capped at this multiple of the current reservoir's M (the paper's
+    /// 20); 0 disables the cap.
+    std::uint32_t history_cap_multiplier = 20u;
+    /// Permutation sampling (Wyman and Panteleev 2021): reads the history of a pixel whose
+    /// coordinates differ in their lowest bits by a per-frame pattern, so that neighbouring
+    /// pixels stop sharing correlated histories. Off by default.
+    bool permutation_sampling = false;
+    /// Frame number, which selects the permutation.
+    std::uint32_t frame_index = 0u;
+};
+
+/// The paper's settings: pairwise MIS, visibility reuse, 25 degrees / 10 %, cap 20.
+RESTIR_HOST_DEVICE constexpr TemporalParams default_temporal_params() noexcept { return {}; }
+
+/// Where to look up the previous frame: `reproject(pixel)` -> PixelCoord in the previous
+/// image (from motion vectors or camera reprojection); a coordinate outside the previous
+/// image means the surface was not visible there (disocclusion).
+template <class F>
+concept Reprojection = requires(const F& reproject, PixelCoord pixel) {
+    { reproject(pixel) } -> std::convertible_to<PixelCoord>;
+};
+
+/// The previous-frame pixel that `pixel` reuses: the reprojected one, permuted when
+/// permutation sampling is on (the permutation is a bijection on 2 x 2 blocks).
+RESTIR_HOST_DEVICE constexpr PixelCoord history_pixel(PixelCoord reprojected,
+                                                      const TemporalParams& params) noexcept {
+    if (!params.permutation_sampling)
+        return reprojected;
+    const std::uint32_t pattern = static_cast<std::uint32_t>(mix64(params.frame_index)) & 3u;
+    return {reprojected.x ^ static_cast<std::int32_t>(pattern & 1u),
+            reprojected.y ^ static_cast<std::int32_t>(pattern >> 1u)};
+}
+
+/// Temporal resampling of one pixel. `current` is the pixel's finalised reservoir for this
+/// frame (initial candidates, possibly visibility-tested) computed for `surface`;
+/// `previous_reservoirs` and `previous_surfaces` are last frame's buffers. Returns the
+/// combined, finalised reservoir; without usable history (disocclusion, dissimilar surface,
+/// non-finite history) it returns `current` unchanged.
+template <class Sample, Surface S, Reprojection Reproject, class Target, class Visibility,
+          class MaterialTest, UniformRng Rng>
+requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
+    RESTIR_HOST_DEVICE Reservoir<Sample>
+    temporal_resample(PixelCoord pixel, const Reservoir<Sample>& current, const S& surface,
+                      ImageView<const Reservoir<Sample>> previous_reservoirs,
+                      ImageView<const S> previous_surfaces, const Reproject& reproject,
+                      const TemporalParams& params,
+                      const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng) {
+    if (!is_valid_surface(surface))
+        return current;
+    const PixelCoord previous = history_pixel(reproject(pixel), params);
+    if (!previous_reservoirs.contains(previous) || !previous_surfaces.contains(previous))
+        return current;
+    const S& previous_surface = previous_surfaces[previous];
+    if (!surfaces_similar(surface, previous_surface, params.similarity, bridge.material_test))
+        return current;
+    Reservoir<Sample> history = previous_reservoirs[previous];
+    if (!history.is_well_formed())
+        return current;
+    if (params.history_cap_multiplier > 0u)
+        history.cap_candidate_count(params.history_cap_multiplier * current.candidate_count);
+    const ReuseInput<Sample, S> input{&history, &previous_surface};
+    return combine_reservoirs(current, surface, &input, 1u, params.reuse, bridge, rng);
+}
+
+} // namespace restir

@@ -1,0 +1,75 @@
+/// @file reuse/visibility.hpp
+/// Visibility of a reservoir's sample from a surface: the contract the reuse passes use, an
+/// adapter that answers it for light-sample references through the application's light set
+/// and ray query, and the final visibility test with visibility reuse (Bitterli et al. 2020,
+/// Alg. 5: a reservoir whose sample is occluded keeps its M but gets W = 0).
+#pragma once
+
+#include "restir/concepts.hpp"
+#include "restir/config.hpp"
+#include "restir/core/reservoir.hpp"
+#include "restir/light/light_sample.hpp"
+
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
+
+#include <concepts>
+
+namespace restir {
+
+/// Visibility of a sample from a surface. Required expression:
+///   `visible(sample, surface)` -> bool, true when nothing blocks the light path that the
+///   sample describes, as seen from the surface.
+template <class F, class Sample, class SurfaceT>
+concept VisibilityFunction = requires(const F& visible, const Sample& sample,
+                                      const SurfaceT& surface) {
+    { visible(sample, surface) } -> std::convertible_to<bool>;
+};
+
+/// `VisibilityFunction` for `LightSampleRef` samples: evaluates the reference with the light
+/// set and asks the ray query whether the segment between the two points is blocked. Both end
+/// points are pushed `ray_offset` along their normals (towards the other point) so that the
+/// segment does not hit the surfaces it starts and ends on. Holds pointers: the light set and
+/// the query must outlive it.
+template <LightSet Lights, RayQuery Query>
+struct LightVisibility {
+    const Lights* lights = nullptr;
+    const Query* query = nullptr;
+    float ray_offset = 1e-4f; ///< World-space offset; scale it with the scene.
+
+    template <Surface S>
+    RESTIR_HOST_DEVICE bool operator()(const LightSampleRef& sample, const S& surface) const {
+        const auto point = lights->sample_point(sample.light_id, sample.uv);
+        const glm::vec3 position = surface_position(surface);
+        const glm::vec3 light_position = point.position;
+        const glm::vec3 towards_light = light_position - position;
+        const glm::vec3 normal = surface_normal(surface);
+        const glm::vec3 light_normal = point.normal;
+        const float side = glm::dot(normal, towards_light) < 0.0f ? -1.0f : 1.0f;
+        const float light_side = glm::dot(light_normal, towards_light) > 0.0f ? -1.0f : 1.0f;
+        const glm::vec3 from = position + normal * (side * ray_offset);
+        const glm::vec3 to = point.is_delta
+                                 ? light_position
+                                 : light_position + light_normal * (light_side * ray_offset);
+        return !query->occluded(from, to);
+    }
+};
+
+/// Final visibility with visibility reuse: when the reservoir's sample is occluded from
+/// `surface`, its contribution weight and weight sum become 0 (it shades nothing and lends
+/// nothing to later reuse) while M and the sample stay. Returns whether the sample is visible.
+/// Reuse passes must then be told (`ReuseParams::visibility_reuse`) so that their MIS weights
+/// test visibility at the neighbours too.
+template <class Sample, Surface S, VisibilityFunction<Sample, S> Visibility>
+RESTIR_HOST_DEVICE bool apply_visibility(Reservoir<Sample>& reservoir, const S& surface,
+                                         const Visibility& visible) {
+    if (!reservoir.has_sample())
+        return false;
+    if (visible(reservoir.sample, surface))
+        return true;
+    reservoir.weight_sum = 0.0f;
+    reservoir.contribution_weight = 0.0f;
+    return false;
+}
+
+} // namespace restir

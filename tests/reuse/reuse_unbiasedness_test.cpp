@@ -1,0 +1,325 @@
+// Unbiasedness of temporal, spatial and combined reuse under every bias correction, on a
+// synthetic image with a known answer per pixel.
+//
+// The world: 18 surface patches in a 6 x 3 grid, 12 lights. Patch s has a target p-hat_s(l)
+// that is zero for about a quarter of the lights (lights "behind" it, so neighbours' samples
+// can have zero target at a receiver), a visibility V_s(l) that blocks about a quarter of them,
+// and an integrand f_s(l) = p-hat_s(l) V_s(l) c(l), where the colour-like factor c keeps the
+// target from being exactly proportional to f. One patch is background (invalid surface).
+// The camera pans: at frame t, pixel (x, y) sees patch ((x + t) mod 6, y), so the previous
+// frame saw the same patch at (x + 1, y), and the right-most column is disoccluded. Row 1 has
+// wrong motion vectors that point one pixel too far, at a different patch.
+// The truth at a pixel is sum_l f_s(l) for the patch it sees.
+#include <restir/restir.hpp>
+
+#include "support/statistics.hpp"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdint>
+#include <cstdio>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace {
+
+using restir::BiasCorrection;
+using restir::PixelCoord;
+using restir::Reservoir;
+using restir::test::RunningStats;
+
+constexpr std::int32_t width = 6;
+constexpr std::int32_t height = 3;
+constexpr std::uint32_t pixel_count = width * height;
+constexpr std::uint32_t light_count = 12;
+constexpr std::uint32_t initial_candidates = 4;
+constexpr std::uint32_t background_patch = 2 * width + 4;
+
+struct Patch {
+    std::uint32_t id = 0u;
+    bool valid = true;
+};
+glm::vec3 surface_position(const Patch& p) {
+    return {static_cast<float>(p.id % width), static_cast<float>(p.id / width), 0.0f};
+}
+glm::vec3 surface_normal(const Patch&) { return {0.0f, 0.0f, 1.0f}; }
+float surface_depth(const Patch&) { return 1.0f; }
+bool is_valid_surface(const Patch& p) { return p.valid; }
+
+struct LightId {
+    std::uint32_t id = 0u;
+};
+
+std::uint32_t hash(std::uint32_t a, std::uint32_t b) {
+    return static_cast<std::uint32_t>(restir::mix64((std::uint64_t{a} << 32u) | b));
+}
+
+// p-hat, visibility and integrand tables.
+struct World {
+    std::array<std::array<float, light_count>, pixel_count> target{};
+    std::array<std::array<bool, light_count>, pixel_count> visible{};
+    std::array<double, pixel_count> truth{};
+
+    World() {
+        for (std::uint32_t s = 0; s < pixel_count; ++s)
+            for (std::uint32_t l = 0; l < light_count; ++l) {
+                const std::uint32_t h = hash(s, l);
+                target[s][l] =
+                    (h % 4u == 0u) ? 0.0f : 0.2f + static_cast<float>(h % 1000u) / 500.0f;
+                visible[s][l] = (h / 4u) % 4u != 0u;
+                truth[s] += integrand(s, l);
+            }
+    }
+    static double colour(std::uint32_t l) { return 0.5 + 0.25 * static_cast<double>(l % 3u); }
+    double integrand(std::uint32_t s, std::uint32_t l) const {
+        return visible[s][l] ? static_cast<double>(target[s][l]) * colour(l) : 0.0;
+    }
+};
+
+const World& world() {
+    static const World w;
+    return w;
+}
+
+struct Target {
+    float operator()(const LightId& x, const Patch& p) const { return world().target[p.id][x.id]; }
+};
+struct Visibility {
+    bool operator()(const LightId& x, const Patch& p) const { return world().visible[p.id][x.id]; }
+};
+
+Patch patch_seen(PixelCoord p, std::uint32_t frame) {
+    const auto column = static_cast<std::uint32_t>(p.x + static_cast<std::int32_t>(frame)) % width;
+    const std::uint32_t id = column + static_cast<std::uint32_t>(p.y) * width;
+    return {id, id != background_patch};
+}
+
+struct Reproject {
+    PixelCoord operator()(PixelCoord p) const { return {p.x + (p.y == 1 ? 2 : 1), p.y}; }
+};
+
+enum class Passes { spatial, temporal, both };
+
+struct ReuseSetup {
+    BiasCorrection mode;
+    Passes passes;
+    bool visibility_reuse = true;
+};
+
+std::string name_of(const ReuseSetup& s) {
+    const char* modes[] = {"none", "one_over_z", "balance_heuristic", "pairwise"};
+    const char* passes[] = {"spatial", "temporal", "both"};
+    return std::string(modes[static_cast<int>(s.mode)]) + "/" + passes[static_cast<int>(s.passes)] +
+           (s.visibility_reuse ? "" : "/no-visibility-reuse");
+}
+
+void PrintTo(const ReuseSetup& setup, std::ostream* os) { *os << name_of(setup); }
+
+// Runs `frames` frames of the pipeline (initial RIS, visibility, temporal, spatial, final
+// visibility) and returns the per-pixel estimates f(y) W of the last frame for each trial.
+class Pipeline {
+public:
+    explicit Pipeline(const ReuseSetup& setup) : setup_(setup) {
+        temporal_.reuse = {setup.mode, setup.visibility_reuse};
+        spatial_.reuse = temporal_.reuse;
+        spatial_.neighbour_count = 3u;
+        spatial_.radius = 2.0f;
+    }
+
+    // Per-pixel statistics of the last frame's estimates over `trials` independent runs.
+    std::vector<RunningStats> run(std::uint32_t frames, std::uint32_t trials) {
+        std::vector<RunningStats> stats(pixel_count);
+        for (std::uint32_t trial = 0; trial < trials; ++trial) {
+            history_.assign(pixel_count, Reservoir<LightId>{});
+            for (std::uint32_t frame = 0; frame < frames; ++frame)
+                render_frame(frame, trial);
+            for (std::uint32_t p = 0; p < pixel_count; ++p) {
+                const Reservoir<LightId>& r = final_[p];
+                const Patch& s = surfaces_[p];
+                const double estimate = s.valid ? world().integrand(s.id, r.sample.id) *
+                                                      static_cast<double>(r.contribution_weight)
+                                                : 0.0;
+                stats[p].add(estimate);
+            }
+        }
+        return stats;
+    }
+
+    double truth(std::uint32_t pixel, std::uint32_t last_frame) const {
+        const PixelCoord p{static_cast<std::int32_t>(pixel % width),
+                           static_cast<std::int32_t>(pixel / width)};
+        const Patch s = patch_seen(p, last_frame);
+        return s.valid ? world().truth[s.id] : 0.0;
+    }
+
+private:
+    void render_frame(std::uint32_t frame, std::uint32_t trial) {
+        const restir::ReuseBridge bridge{Target{}, Visibility{}};
+        std::vector<Patch> surfaces(pixel_count);
+        std::vector<Reservoir<LightId>> current(pixel_count);
+        const restir::UniformLightSampler sampler{light_count};
+        for (std::uint32_t i = 0; i < pixel_count; ++i) {
+            const PixelCoord p{static_cast<std::int32_t>(i % width),
+                               static_cast<std::int32_t>(i / width)};
+            surfaces[i] = patch_seen(p, frame);
+            if (!surfaces[i].valid)
+                continue;
+            restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 0u, trial);
+            const Patch surface = surfaces[i];
+            current[i] = restir::resample_ris(
+                rng, initial_candidates,
+                [&](restir::Pcg32& g) {
+                    const restir::DiscreteSample c = restir::sample_light(sampler, g);
+                    return restir::SourceSample<LightId>{{c.index}, c.pmf};
+                },
+                [&](const LightId& x) { return Target{}(x, surface); });
+            if (setup_.visibility_reuse)
+                restir::apply_visibility(current[i], surface, Visibility{});
+        }
+
+        const restir::ImageView<const Patch> surface_view{surfaces.data(), width, height};
+        if (frame > 0 && setup_.passes != Passes::spatial) {
+            const restir::ImageView<const Reservoir<LightId>> previous{history_.data(), width,
+                                                                       height};
+            const restir::ImageView<const Patch> previous_surfaces{surfaces_.data(), width, height};
+            std::vector<Reservoir<LightId>> temporal(pixel_count);
+            for (std::uint32_t i = 0; i < pixel_count; ++i) {
+                const PixelCoord p{static_cast<std::int32_t>(i % width),
+                                   static_cast<std::int32_t>(i / width)};
+                restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 1u, trial);
+                temporal[i] = restir::temporal_resample(p, current[i], surfaces[i], previous,
+                                                        previous_surfaces, Reproject{}, temporal_,
+                                                        bridge, rng);
+            }
+            current = temporal;
+        }
+        if (setup_.passes != Passes::temporal) {
+            const restir::ImageView<const Reservoir<LightId>> input{current.data(), width, height};
+            std::vector<Reservoir<LightId>> spatial(pixel_count);
+            for (std::uint32_t i = 0; i < pixel_count; ++i) {
+                const PixelCoord p{static_cast<std::int32_t>(i % width),
+                                   static_cast<std::int32_t>(i / width)};
+                restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 2u, trial);
+                spatial[i] = restir::spatial_resample(p, input, surface_view, spatial_, offsets_,
+                                                      bridge, rng);
+            }
+            current = spatial;
+        }
+        // Final shading ray; with visibility reuse it also zeroes W for the next frame.
+        if (setup_.visibility_reuse)
+            for (std::uint32_t i = 0; i < pixel_count; ++i)
+                if (surfaces[i].valid)
+                    restir::apply_visibility(current[i], surfaces[i], Visibility{});
+        final_ = current;
+        history_ = current;
+        surfaces_ = surfaces;
+    }
+
+    ReuseSetup setup_;
+    restir::TemporalParams temporal_ = restir::default_temporal_params();
+    restir::SpatialParams spatial_ = restir::default_spatial_params();
+    restir::NeighborOffsets offsets_ = restir::make_neighbor_offsets();
+    std::vector<Reservoir<LightId>> history_, final_;
+    std::vector<Patch> surfaces_;
+};
+
+constexpr std::uint32_t temporal_frames = 20;
+
+std::uint32_t frames_for(Passes passes) { return passes == Passes::spatial ? 1u : temporal_frames; }
+std::uint32_t trials_for(Passes passes) { return passes == Passes::spatial ? 40'000u : 4'000u; }
+
+class UnbiasedReuse : public ::testing::TestWithParam<ReuseSetup> {};
+
+TEST_P(UnbiasedReuse, MeanMatchesTruthAtEveryPixel) {
+    const ReuseSetup setup = GetParam();
+    Pipeline pipeline(setup);
+    const std::uint32_t frames = frames_for(setup.passes);
+    const std::vector<RunningStats> stats = pipeline.run(frames, trials_for(setup.passes));
+    for (std::uint32_t p = 0; p < pixel_count; ++p)
+        EXPECT_TRUE(restir::test::agrees_with(stats[p], pipeline.truth(p, frames - 1u)))
+            << name_of(setup) << ", pixel " << p;
+}
+
+std::vector<ReuseSetup> unbiased_setups() {
+    std::vector<ReuseSetup> setups;
+    for (BiasCorrection mode :
+         {BiasCorrection::one_over_z, BiasCorrection::balance_heuristic, BiasCorrection::pairwise})
+        for (Passes passes : {Passes::spatial, Passes::temporal, Passes::both})
+            setups.push_back({mode, passes, true});
+    for (BiasCorrection mode :
+         {BiasCorrection::one_over_z, BiasCorrection::balance_heuristic, BiasCorrection::pairwise})
+        setups.push_back({mode, Passes::both, false});
+    return setups;
+}
+
+INSTANTIATE_TEST_SUITE_P(Modes, UnbiasedReuse, ::testing::ValuesIn(unbiased_setups()),
+                         [](const ::testing::TestParamInfo<ReuseSetup>& param_info) {
+                             std::string name = name_of(param_info.param);
+                             for (char& c : name)
+                                 if (c == '/' || c == '-')
+                                     c = '_';
+                             return name;
+                         });
+
+} // namespace
+
+namespace {
+
+// Prints mean, truth and error in standard errors for each pixel (for docs/noise-and-bias.md).
+void report(const char* label, Pipeline& pipeline, const std::vector<RunningStats>& stats,
+            std::uint32_t last_frame) {
+    double relative_sum = 0.0;
+    std::uint32_t counted = 0;
+    for (std::uint32_t p = 0; p < pixel_count; ++p) {
+        const double truth = pipeline.truth(p, last_frame);
+        if (truth <= 0.0)
+            continue;
+        relative_sum += (stats[p].mean() - truth) / truth;
+        ++counted;
+    }
+    std::printf("%s: mean relative bias over pixels %+.3f\n", label,
+                relative_sum / static_cast<double>(counted));
+}
+
+// "none" (1/M) gives every input the same share whether or not it can produce a sample, so a
+// receiver whose neighbours cannot produce some of its lights (other patches: different
+// supports and occluders) comes out darker. Spatial reuse: every shaded pixel has such
+// neighbours here.
+TEST(BiasedReuse, SpatialOneOverMDarkensEveryPixel) {
+    Pipeline pipeline({BiasCorrection::none, Passes::spatial, true});
+    const std::vector<RunningStats> stats = pipeline.run(1u, trials_for(Passes::spatial));
+    report("none/spatial", pipeline, stats, 0u);
+    for (std::uint32_t p = 0; p < pixel_count; ++p) {
+        const double truth = pipeline.truth(p, 0u);
+        if (truth == 0.0)
+            continue;
+        EXPECT_TRUE(restir::test::differs_from(stats[p], truth)) << "pixel " << p;
+        EXPECT_LT(stats[p].mean(), truth) << "pixel " << p;
+    }
+}
+
+// Temporal reuse with 1/M is unbiased where the history is the same patch (rows 0 and 2,
+// correct motion vectors) and darker where it is another patch (row 1, whose motion vectors
+// point one pixel too far), except where that pixel falls outside the image (no history).
+TEST(BiasedReuse, TemporalOneOverMIsBiasedExactlyWhereTheHistoryIsAnotherSurface) {
+    Pipeline pipeline({BiasCorrection::none, Passes::temporal, true});
+    const std::uint32_t last = temporal_frames - 1u;
+    const std::vector<RunningStats> stats =
+        pipeline.run(temporal_frames, trials_for(Passes::temporal));
+    report("none/temporal", pipeline, stats, last);
+    for (std::uint32_t p = 0; p < pixel_count; ++p) {
+        const double truth = pipeline.truth(p, last);
+        const std::uint32_t x = p % width, y = p / width;
+        const bool other_surface = y == 1u && x + 2u < width;
+        if (other_surface) {
+            EXPECT_TRUE(restir::test::differs_from(stats[p], truth)) << "pixel " << p;
+            EXPECT_LT(stats[p].mean(), truth) << "pixel " << p;
+        } else {
+            EXPECT_TRUE(restir::test::agrees_with(stats[p], truth)) << "pixel " << p;
+        }
+    }
+}
+
+} // namespace
