@@ -20,6 +20,8 @@ static_assert(restir::LightSet<stub::LightSet>);
 static_assert(restir::LightPoint<restir::LightSample>);
 static_assert(restir::LightSampler<stub::LightSampler>);
 static_assert(restir::RayQuery<stub::RayQuery>);
+static_assert(restir::VisibilityFunction<stub::Visibility, stub::Sample, stub::Surface>);
+static_assert(restir::Reprojection<stub::Reprojection>);
 
 } // namespace
 
@@ -69,6 +71,17 @@ struct MutableRayQuery {
 };
 static_assert(!restir::RayQuery<MutableRayQuery>, "queries must be const-callable");
 
+struct VisibilityReturningNothing {
+    void operator()(const stub::Sample&, const stub::Surface&) const;
+};
+static_assert(!restir::VisibilityFunction<VisibilityReturningNothing, stub::Sample, stub::Surface>);
+static_assert(!restir::VisibilityFunction<stub::Visibility, stub::Sample, int>, "wrong surface");
+
+struct ReprojectionToIndex {
+    int operator()(restir::PixelCoord) const;
+};
+static_assert(!restir::Reprojection<ReprojectionToIndex>, "must return a PixelCoord");
+
 } // namespace rejected
 
 namespace {
@@ -106,6 +119,40 @@ TEST(Conformance, TemplatesInstantiateWithStubTypes) {
 
     const restir::LightSample point = lights.sample_point(r.sample.id, glm::vec2(0.5f));
     EXPECT_FALSE(query.occluded(surface_position(surface), point.position));
+}
+
+TEST(Conformance, ReusePassesInstantiateWithStubTypes) {
+    stub::Rng rng;
+    const restir::ReuseBridge bridge{stub::Target{}, stub::Visibility{}};
+    const std::vector<stub::Surface> surfaces(4, stub::Surface{0.5f});
+    std::vector<restir::Reservoir<stub::Sample>> reservoirs(4);
+    for (restir::Reservoir<stub::Sample>& r : reservoirs) {
+        r.stream(stub::Sample{1u}, 1.0f, stub::Target{}(stub::Sample{1u}, surfaces[0]), 0.5f);
+        r.finalize();
+    }
+    const restir::ImageView<const restir::Reservoir<stub::Sample>> view{reservoirs.data(), 2u, 2u};
+    const restir::ImageView<const stub::Surface> surface_view{surfaces.data(), 2u, 2u};
+    const restir::NeighborOffsets offsets = restir::make_neighbor_offsets();
+    restir::SpatialParams spatial = restir::default_spatial_params();
+    spatial.radius = 1.0f;
+    const restir::TemporalParams temporal = restir::default_temporal_params();
+
+    auto out = restir::temporal_resample({0, 0}, reservoirs[0], surfaces[0], view, surface_view,
+                                         stub::Reprojection{}, temporal, bridge, rng);
+    EXPECT_EQ(out.candidate_count, 2u);
+    out = restir::spatial_resample({0, 0}, view, surface_view, spatial, offsets, bridge, rng);
+    EXPECT_GE(out.candidate_count, 1u);
+    out = restir::spatiotemporal_resample({1, 1}, reservoirs[3], surfaces[3], view, surface_view,
+                                          stub::Reprojection{}, temporal, spatial, offsets, bridge,
+                                          rng);
+    EXPECT_GE(out.candidate_count, 2u);
+    EXPECT_TRUE(restir::apply_visibility(out, surfaces[0], stub::Visibility{}));
+    out = restir::boiling_filter({0, 0}, view, restir::default_boiling_filter_params());
+    EXPECT_TRUE(out.is_well_formed());
+    const stub::LightSet lights;
+    const stub::RayQuery query;
+    const restir::LightVisibility<stub::LightSet, stub::RayQuery> light_visibility{&lights, &query};
+    EXPECT_TRUE(light_visibility(restir::LightSampleRef{}, surfaces[0]));
 }
 
 } // namespace

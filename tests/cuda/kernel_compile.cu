@@ -29,7 +29,70 @@ struct DistanceTarget {
     }
 };
 
+// A G-buffer texel and the reuse bridge for it.
+struct GBufferTexel {
+    glm::vec3 position;
+    glm::vec3 normal;
+    float depth;
+};
+RESTIR_HOST_DEVICE glm::vec3 surface_position(const GBufferTexel& t) { return t.position; }
+RESTIR_HOST_DEVICE glm::vec3 surface_normal(const GBufferTexel& t) { return t.normal; }
+RESTIR_HOST_DEVICE float surface_depth(const GBufferTexel& t) { return t.depth; }
+RESTIR_HOST_DEVICE bool is_valid_surface(const GBufferTexel& t) { return t.depth > 0.0f; }
+
+struct SurfaceTarget {
+    const glm::vec3* light_positions;
+    RESTIR_HOST_DEVICE float operator()(const restir::LightSampleRef& ref,
+                                        const GBufferTexel& texel) const {
+        const glm::vec3 d = light_positions[ref.light_id] - texel.position;
+        return restir::yuksel_attenuation(glm::length(d), 0.1f);
+    }
+};
+
+struct HeightVisibility {
+    RESTIR_HOST_DEVICE bool operator()(const restir::LightSampleRef& ref,
+                                       const GBufferTexel& texel) const {
+        return surface_position(texel).y < 10.0f || ref.light_id % 2u == 0u;
+    }
+};
+
+struct StaticCamera {
+    RESTIR_HOST_DEVICE restir::PixelCoord operator()(restir::PixelCoord p) const { return p; }
+};
+
 } // namespace
+
+__global__ void reuse_kernel(const glm::vec3* light_positions, const GBufferTexel* texels,
+                             const restir::Reservoir<restir::LightSampleRef>* previous,
+                             restir::Reservoir<restir::LightSampleRef>* temporal_out,
+                             restir::Reservoir<restir::LightSampleRef>* spatial_out,
+                             std::uint32_t width, std::uint32_t height,
+                             restir::NeighborOffsets offsets) {
+    const auto x = static_cast<std::int32_t>(blockIdx.x * blockDim.x + threadIdx.x);
+    const auto y = static_cast<std::int32_t>(blockIdx.y * blockDim.y + threadIdx.y);
+    const restir::ImageView<const GBufferTexel> surfaces{texels, width, height};
+    const restir::ImageView<const restir::Reservoir<restir::LightSampleRef>> history{previous,
+                                                                                     width, height};
+    if (!surfaces.contains({x, y}))
+        return;
+    const std::uint32_t index = surfaces.index_of({x, y});
+    restir::Pcg32 rng = restir::make_pixel_rng(index, 1u, 1u);
+    const restir::ReuseBridge bridge{SurfaceTarget{light_positions}, HeightVisibility{}};
+    restir::Reservoir<restir::LightSampleRef> current = history[{x, y}];
+    restir::apply_visibility(current, texels[index], bridge.visibility);
+    const restir::TemporalParams temporal = restir::default_temporal_params();
+    restir::SpatialParams spatial = restir::default_spatial_params();
+    spatial.reuse.bias_correction = restir::BiasCorrection::balance_heuristic;
+    temporal_out[index] = restir::temporal_resample(
+        {x, y}, current, texels[index], history, surfaces, StaticCamera{}, temporal, bridge, rng);
+    spatial_out[index] =
+        restir::spatiotemporal_resample({x, y}, current, texels[index], history, surfaces,
+                                        StaticCamera{}, temporal, spatial, offsets, bridge, rng);
+    spatial_out[index] =
+        restir::spatial_resample({x, y}, history, surfaces, spatial, offsets, bridge, rng);
+    spatial_out[index] =
+        restir::boiling_filter({x, y}, history, restir::default_boiling_filter_params());
+}
 
 __global__ void ris_kernel(const glm::vec3* light_positions, std::uint32_t light_count,
                            const restir::AliasEntry* alias_entries, float* out) {

@@ -90,6 +90,10 @@ struct Visibility {
     bool operator()(const LightId& x, const Patch& p) const { return world().visible[p.id][x.id]; }
 };
 
+PixelCoord pixel_of(std::uint32_t index) {
+    return {static_cast<std::int32_t>(index % width), static_cast<std::int32_t>(index / width)};
+}
+
 Patch patch_seen(PixelCoord p, std::uint32_t frame) {
     const auto column = static_cast<std::uint32_t>(p.x + static_cast<std::int32_t>(frame)) % width;
     const std::uint32_t id = column + static_cast<std::uint32_t>(p.y) * width;
@@ -100,7 +104,8 @@ struct Reproject {
     PixelCoord operator()(PixelCoord p) const { return {p.x + (p.y == 1 ? 2 : 1), p.y}; }
 };
 
-enum class Passes { spatial, temporal, both };
+// both: temporal then spatial; fused: one spatiotemporal pass over the previous frame.
+enum class Passes { spatial, temporal, both, fused };
 
 struct ReuseSetup {
     BiasCorrection mode;
@@ -110,7 +115,7 @@ struct ReuseSetup {
 
 std::string name_of(const ReuseSetup& s) {
     const char* modes[] = {"none", "one_over_z", "balance_heuristic", "pairwise"};
-    const char* passes[] = {"spatial", "temporal", "both"};
+    const char* passes[] = {"spatial", "temporal", "both", "fused"};
     return std::string(modes[static_cast<int>(s.mode)]) + "/" + passes[static_cast<int>(s.passes)] +
            (s.visibility_reuse ? "" : "/no-visibility-reuse");
 }
@@ -148,9 +153,7 @@ public:
     }
 
     double truth(std::uint32_t pixel, std::uint32_t last_frame) const {
-        const PixelCoord p{static_cast<std::int32_t>(pixel % width),
-                           static_cast<std::int32_t>(pixel / width)};
-        const Patch s = patch_seen(p, last_frame);
+        const Patch s = patch_seen(pixel_of(pixel), last_frame);
         return s.valid ? world().truth[s.id] : 0.0;
     }
 
@@ -161,9 +164,7 @@ private:
         std::vector<Reservoir<LightId>> current(pixel_count);
         const restir::UniformLightSampler sampler{light_count};
         for (std::uint32_t i = 0; i < pixel_count; ++i) {
-            const PixelCoord p{static_cast<std::int32_t>(i % width),
-                               static_cast<std::int32_t>(i / width)};
-            surfaces[i] = patch_seen(p, frame);
+            surfaces[i] = patch_seen(pixel_of(i), frame);
             if (!surfaces[i].valid)
                 continue;
             restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 0u, trial);
@@ -180,14 +181,26 @@ private:
         }
 
         const restir::ImageView<const Patch> surface_view{surfaces.data(), width, height};
-        if (frame > 0 && setup_.passes != Passes::spatial) {
+        if (frame > 0 && setup_.passes == Passes::fused) {
+            const restir::ImageView<const Reservoir<LightId>> previous{history_.data(), width,
+                                                                       height};
+            const restir::ImageView<const Patch> previous_surfaces{surfaces_.data(), width, height};
+            std::vector<Reservoir<LightId>> fused(pixel_count);
+            for (std::uint32_t i = 0; i < pixel_count; ++i) {
+                restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 1u, trial);
+                fused[i] = restir::spatiotemporal_resample(
+                    pixel_of(i), current[i], surfaces[i], previous, previous_surfaces, Reproject{},
+                    temporal_, spatial_, offsets_, bridge, rng);
+            }
+            current = fused;
+        }
+        if (frame > 0 && (setup_.passes == Passes::temporal || setup_.passes == Passes::both)) {
             const restir::ImageView<const Reservoir<LightId>> previous{history_.data(), width,
                                                                        height};
             const restir::ImageView<const Patch> previous_surfaces{surfaces_.data(), width, height};
             std::vector<Reservoir<LightId>> temporal(pixel_count);
             for (std::uint32_t i = 0; i < pixel_count; ++i) {
-                const PixelCoord p{static_cast<std::int32_t>(i % width),
-                                   static_cast<std::int32_t>(i / width)};
+                const PixelCoord p = pixel_of(i);
                 restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 1u, trial);
                 temporal[i] = restir::temporal_resample(p, current[i], surfaces[i], previous,
                                                         previous_surfaces, Reproject{}, temporal_,
@@ -195,12 +208,11 @@ private:
             }
             current = temporal;
         }
-        if (setup_.passes != Passes::temporal) {
+        if (setup_.passes == Passes::spatial || setup_.passes == Passes::both) {
             const restir::ImageView<const Reservoir<LightId>> input{current.data(), width, height};
             std::vector<Reservoir<LightId>> spatial(pixel_count);
             for (std::uint32_t i = 0; i < pixel_count; ++i) {
-                const PixelCoord p{static_cast<std::int32_t>(i % width),
-                                   static_cast<std::int32_t>(i / width)};
+                const PixelCoord p = pixel_of(i);
                 restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 2u, trial);
                 spatial[i] = restir::spatial_resample(p, input, surface_view, spatial_, offsets_,
                                                       bridge, rng);
@@ -246,7 +258,7 @@ std::vector<ReuseSetup> unbiased_setups() {
     std::vector<ReuseSetup> setups;
     for (BiasCorrection mode :
          {BiasCorrection::one_over_z, BiasCorrection::balance_heuristic, BiasCorrection::pairwise})
-        for (Passes passes : {Passes::spatial, Passes::temporal, Passes::both})
+        for (Passes passes : {Passes::spatial, Passes::temporal, Passes::both, Passes::fused})
             setups.push_back({mode, passes, true});
     for (BiasCorrection mode :
          {BiasCorrection::one_over_z, BiasCorrection::balance_heuristic, BiasCorrection::pairwise})

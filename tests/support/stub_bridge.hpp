@@ -6,6 +6,7 @@
 #include <restir/concepts.hpp>
 #include <restir/core/discrete_sample.hpp>
 #include <restir/light/light_sample.hpp>
+#include <restir/reuse/image_view.hpp>
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
@@ -63,6 +64,16 @@ struct LightSampler {
     restir::DiscreteSample sample(float, float) const { return {0u, 1.0f}; }
     float pmf(std::uint32_t id) const { return id == 0u ? 1.0f : 0.0f; }
     std::uint32_t light_count() const { return 1u; }
+};
+
+/// Every sample is visible from every surface.
+struct Visibility {
+    bool operator()(const Sample&, const Surface&) const { return true; }
+};
+
+/// Every pixel was at the same place in the previous frame.
+struct Reprojection {
+    restir::PixelCoord operator()(restir::PixelCoord p) const { return p; }
 };
 
 /// Nothing ever blocks.

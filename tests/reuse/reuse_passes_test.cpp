@@ -1,0 +1,317 @@
+// Deterministic properties of the reuse passes: neighbour offsets, similarity tests, history
+// fallback and capping, non-finite inputs, visibility, the boiling filter.
+#include <restir/restir.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <set>
+#include <utility>
+#include <vector>
+
+namespace {
+
+using restir::BiasCorrection;
+using restir::PixelCoord;
+using restir::Reservoir;
+
+struct Point {
+    glm::vec3 normal{0.0f, 0.0f, 1.0f};
+    float depth = 1.0f;
+    bool valid = true;
+    int material = 0;
+};
+glm::vec3 surface_position(const Point&) { return glm::vec3(0.0f); }
+glm::vec3 surface_normal(const Point& p) { return p.normal; }
+float surface_depth(const Point& p) { return p.depth; }
+bool is_valid_surface(const Point& p) { return p.valid; }
+
+struct LightId {
+    std::uint32_t id = 0u;
+};
+
+struct Target {
+    float operator()(const LightId& x, const Point&) const {
+        return 1.0f + static_cast<float>(x.id);
+    }
+};
+struct AlwaysVisible {
+    bool operator()(const LightId&, const Point&) const { return true; }
+};
+
+constexpr BiasCorrection all_modes[] = {BiasCorrection::none, BiasCorrection::one_over_z,
+                                        BiasCorrection::balance_heuristic,
+                                        BiasCorrection::pairwise};
+
+Reservoir<LightId> finalised(std::uint32_t light, std::uint32_t count, float weight) {
+    Reservoir<LightId> r;
+    r.stream(LightId{light}, weight, Target{}(LightId{light}, Point{}), 0.0f);
+    r.candidate_count = count;
+    r.finalize();
+    return r;
+}
+
+Reservoir<LightId> poisoned() {
+    Reservoir<LightId> r = finalised(3u, 4u, 2.0f);
+    r.weight_sum = std::numeric_limits<float>::quiet_NaN();
+    r.contribution_weight = std::numeric_limits<float>::infinity();
+    return r;
+}
+
+glm::vec3 tilted_normal(float degrees) {
+    const float radians = degrees * 3.14159265f / 180.0f;
+    return {std::sin(radians), 0.0f, std::cos(radians)};
+}
+
+TEST(NeighborOffsets, LieInTheUnitDiskAndAreDistinctAndSpread) {
+    constexpr restir::NeighborOffsets table = restir::make_neighbor_offsets();
+    std::set<std::pair<float, float>> distinct;
+    int quadrant[4] = {0, 0, 0, 0};
+    for (std::uint32_t i = 0; i < restir::neighbor_offset_count; ++i) {
+        const restir::DiskOffset o = table[i];
+        EXPECT_LE(o.x * o.x + o.y * o.y, 1.0f);
+        distinct.insert({o.x, o.y});
+        ++quadrant[(o.x < 0.0f ? 0 : 1) + (o.y < 0.0f ? 0 : 2)];
+    }
+    EXPECT_EQ(distinct.size(), restir::neighbor_offset_count);
+    // A low-discrepancy set puts close to a quarter of the points in each quadrant.
+    for (int q : quadrant) {
+        EXPECT_GE(q, 12);
+        EXPECT_LE(q, 20);
+    }
+    EXPECT_EQ(table[restir::neighbor_offset_count + 5u].x, table[5u].x);
+}
+
+TEST(Similarity, NormalDepthValidityAndMaterialHook) {
+    const restir::SimilarityParams params = restir::default_similarity_params();
+    const Point receiver;
+    EXPECT_TRUE(restir::surfaces_similar(receiver, Point{tilted_normal(20.0f)}, params));
+    EXPECT_FALSE(restir::surfaces_similar(receiver, Point{tilted_normal(30.0f)}, params));
+    EXPECT_TRUE(restir::surfaces_similar(receiver, Point{{0, 0, 1}, 1.05f}, params));
+    EXPECT_FALSE(restir::surfaces_similar(receiver, Point{{0, 0, 1}, 0.85f}, params));
+    EXPECT_FALSE(restir::surfaces_similar(receiver, Point{{0, 0, 1}, 1.0f, false}, params));
+    EXPECT_FALSE(restir::surfaces_similar(Point{{0, 0, 1}, 1.0f, false}, receiver, params));
+    const auto same_material = [](const Point& a, const Point& b) {
+        return a.material == b.material;
+    };
+    EXPECT_FALSE(
+        restir::surfaces_similar(receiver, Point{{0, 0, 1}, 1.0f, true, 7}, params, same_material));
+    EXPECT_TRUE(restir::surfaces_similar(receiver, Point{}, params, same_material));
+}
+
+// The previous-frame buffers of a 3 x 1 image.
+struct History {
+    std::vector<Reservoir<LightId>> reservoirs;
+    std::vector<Point> surfaces;
+    restir::ImageView<const Reservoir<LightId>> reservoir_view() const {
+        return {reservoirs.data(), 3u, 1u};
+    }
+    restir::ImageView<const Point> surface_view() const { return {surfaces.data(), 3u, 1u}; }
+};
+
+void expect_same(const Reservoir<LightId>& a, const Reservoir<LightId>& b) {
+    EXPECT_EQ(a.sample.id, b.sample.id);
+    EXPECT_EQ(a.candidate_count, b.candidate_count);
+    EXPECT_EQ(a.contribution_weight, b.contribution_weight);
+    EXPECT_EQ(a.weight_sum, b.weight_sum);
+}
+
+TEST(TemporalReuse, FallsBackToTheCurrentReservoirWithoutUsableHistory) {
+    const restir::ReuseBridge bridge{Target{}, AlwaysVisible{}};
+    const Reservoir<LightId> current = finalised(2u, 4u, 1.5f);
+    History history{{finalised(1u, 8u, 1.0f), finalised(1u, 8u, 1.0f), poisoned()},
+                    {Point{}, Point{tilted_normal(60.0f)}, Point{}}};
+    const auto to = [](std::int32_t x) { return [x](PixelCoord) { return PixelCoord{x, 0}; }; };
+    for (BiasCorrection mode : all_modes) {
+        restir::TemporalParams params = restir::default_temporal_params();
+        params.reuse.bias_correction = mode;
+        restir::Pcg32 rng;
+        // Disocclusion: the reprojection names no pixel of the previous image.
+        expect_same(restir::temporal_resample({0, 0}, current, Point{}, history.reservoir_view(),
+                                              history.surface_view(), to(-1), params, bridge, rng),
+                    current);
+        // A dissimilar surface (normals 60 degrees apart).
+        expect_same(restir::temporal_resample({0, 0}, current, Point{}, history.reservoir_view(),
+                                              history.surface_view(), to(1), params, bridge, rng),
+                    current);
+        // A history holding NaN and infinity.
+        expect_same(restir::temporal_resample({0, 0}, current, Point{}, history.reservoir_view(),
+                                              history.surface_view(), to(2), params, bridge, rng),
+                    current);
+        // An invalid receiver keeps its reservoir.
+        expect_same(restir::temporal_resample({0, 0}, current, Point{{0, 0, 1}, 1.0f, false},
+                                              history.reservoir_view(), history.surface_view(),
+                                              to(0), params, bridge, rng),
+                    current);
+        // Usable history is combined: M adds up.
+        const Reservoir<LightId> combined =
+            restir::temporal_resample({0, 0}, current, Point{}, history.reservoir_view(),
+                                      history.surface_view(), to(0), params, bridge, rng);
+        EXPECT_EQ(combined.candidate_count, 12u);
+        EXPECT_TRUE(combined.is_well_formed());
+    }
+}
+
+TEST(TemporalReuse, CapsTheHistoryAtAMultipleOfTheCurrentCount) {
+    const restir::ReuseBridge bridge{Target{}, AlwaysVisible{}};
+    const Reservoir<LightId> current = finalised(2u, 4u, 1.5f);
+    History history{{finalised(1u, 1000u, 1.0f), {}, {}}, {Point{}, Point{}, Point{}}};
+    restir::TemporalParams params = restir::default_temporal_params();
+    restir::Pcg32 rng;
+    const auto same_pixel = [](PixelCoord p) { return p; };
+    EXPECT_EQ(restir::temporal_resample({0, 0}, current, Point{}, history.reservoir_view(),
+                                        history.surface_view(), same_pixel, params, bridge, rng)
+                  .candidate_count,
+              4u + 20u * 4u);
+    params.history_cap_multiplier = 0u; // no cap
+    EXPECT_EQ(restir::temporal_resample({0, 0}, current, Point{}, history.reservoir_view(),
+                                        history.surface_view(), same_pixel, params, bridge, rng)
+                  .candidate_count,
+              1004u);
+}
+
+TEST(TemporalReuse, PermutationSamplingPermutesTwoByTwoBlocks) {
+    restir::TemporalParams params = restir::default_temporal_params();
+    EXPECT_EQ(restir::history_pixel({5, 8}, params).x, 5);
+    params.permutation_sampling = true;
+    bool moved = false;
+    for (std::uint32_t frame = 0; frame < 8u; ++frame) {
+        params.frame_index = frame;
+        std::set<std::pair<int, int>> images;
+        for (int y = 0; y < 4; ++y)
+            for (int x = 0; x < 4; ++x) {
+                const PixelCoord p = restir::history_pixel({x, y}, params);
+                EXPECT_EQ(p.x / 2, x / 2);
+                EXPECT_EQ(p.y / 2, y / 2);
+                images.insert({p.x, p.y});
+                moved = moved || p.x != x || p.y != y;
+            }
+        EXPECT_EQ(images.size(), 16u) << "frame " << frame << " is not a bijection";
+    }
+    EXPECT_TRUE(moved);
+}
+
+TEST(SpatialReuse, IgnoresNonFiniteNeighboursAndInvalidReceivers) {
+    const restir::ReuseBridge bridge{Target{}, AlwaysVisible{}};
+    const restir::NeighborOffsets offsets = restir::make_neighbor_offsets();
+    // A 3 x 3 image: the centre is sound, every neighbour is poisoned.
+    std::vector<Reservoir<LightId>> reservoirs(9, poisoned());
+    reservoirs[4] = finalised(2u, 4u, 1.5f);
+    const std::vector<Point> surfaces(9);
+    const restir::ImageView<const Reservoir<LightId>> view{reservoirs.data(), 3u, 3u};
+    const restir::ImageView<const Point> surface_view{surfaces.data(), 3u, 3u};
+    for (BiasCorrection mode : all_modes) {
+        restir::SpatialParams params = restir::default_spatial_params();
+        params.reuse.bias_correction = mode;
+        params.neighbour_count = 8u;
+        params.radius = 1.5f;
+        restir::Pcg32 rng = restir::make_pixel_rng(4u, 0u, 0u);
+        const Reservoir<LightId> out =
+            restir::spatial_resample({1, 1}, view, surface_view, params, offsets, bridge, rng);
+        EXPECT_EQ(out.sample.id, 2u);
+        EXPECT_EQ(out.candidate_count, 4u);
+        EXPECT_FLOAT_EQ(out.contribution_weight, reservoirs[4].contribution_weight);
+    }
+    // An invalid receiver (background) returns its reservoir untouched.
+    std::vector<Point> background(9);
+    background[4].valid = false;
+    restir::Pcg32 rng;
+    const restir::ImageView<const Point> background_view{background.data(), 3u, 3u};
+    expect_same(restir::spatial_resample({1, 1}, view, background_view,
+                                         restir::default_spatial_params(), offsets, bridge, rng),
+                reservoirs[4]);
+}
+
+TEST(SpatialReuse, AddsTheCandidateCountsOfSimilarNeighbours) {
+    const restir::ReuseBridge bridge{Target{}, AlwaysVisible{}};
+    const restir::NeighborOffsets offsets = restir::make_neighbor_offsets();
+    std::vector<Reservoir<LightId>> reservoirs(9, finalised(1u, 4u, 1.0f));
+    std::vector<Point> surfaces(9);
+    for (std::uint32_t i : {0u, 2u, 6u, 8u}) // corners face away: never similar
+        surfaces[i].normal = {0.0f, 0.0f, -1.0f};
+    const restir::ImageView<const Reservoir<LightId>> view{reservoirs.data(), 3u, 3u};
+    const restir::ImageView<const Point> surface_view{surfaces.data(), 3u, 3u};
+    for (BiasCorrection mode : all_modes) {
+        restir::SpatialParams params = restir::default_spatial_params();
+        params.reuse.bias_correction = mode;
+        params.neighbour_count = 15u;
+        params.radius = 1.5f;
+        restir::Pcg32 rng = restir::make_pixel_rng(4u, 0u, 0u);
+        const Reservoir<LightId> out =
+            restir::spatial_resample({1, 1}, view, surface_view, params, offsets, bridge, rng);
+        // Only the four edge neighbours can take part, each 4 candidates, at most once per
+        // offset that lands on them.
+        EXPECT_EQ(out.candidate_count % 4u, 0u);
+        EXPECT_GT(out.candidate_count, 4u);
+        EXPECT_TRUE(out.is_well_formed());
+        EXPECT_GT(out.contribution_weight, 0.0f);
+    }
+}
+
+TEST(Visibility, OccludedSampleKeepsItsCountButLosesItsWeight) {
+    Reservoir<LightId> r = finalised(3u, 4u, 2.0f);
+    const auto blocked = [](const LightId& x, const Point&) { return x.id != 3u; };
+    EXPECT_FALSE(restir::apply_visibility(r, Point{}, blocked));
+    EXPECT_EQ(r.contribution_weight, 0.0f);
+    EXPECT_EQ(r.weight_sum, 0.0f);
+    EXPECT_EQ(r.candidate_count, 4u);
+    Reservoir<LightId> seen = finalised(2u, 4u, 2.0f);
+    const Reservoir<LightId> before = seen;
+    EXPECT_TRUE(restir::apply_visibility(seen, Point{}, blocked));
+    expect_same(seen, before);
+}
+
+// A light set with one area light at height 2 and a query that records its segment.
+struct OneLight {
+    std::uint32_t light_count() const { return 1u; }
+    restir::LightSample sample_point(std::uint32_t, glm::vec2 uv) const {
+        restir::LightSample s;
+        s.position = {uv.x, uv.y, 2.0f};
+        s.normal = {0.0f, 0.0f, -1.0f};
+        s.radiance = glm::vec3(1.0f);
+        s.area_pdf = 1.0f;
+        return s;
+    }
+};
+struct RecordingQuery {
+    mutable glm::vec3 from{0.0f}, to{0.0f};
+    bool blocked = false;
+    bool occluded(glm::vec3 a, glm::vec3 b) const {
+        from = a;
+        to = b;
+        return blocked;
+    }
+};
+
+TEST(Visibility, LightVisibilityOffsetsBothEndsTowardsEachOther) {
+    const OneLight lights;
+    RecordingQuery query;
+    const restir::LightVisibility<OneLight, RecordingQuery> visible{&lights, &query, 0.01f};
+    const restir::LightSampleRef ref{0u, {0.25f, 0.5f}};
+    EXPECT_TRUE(visible(ref, Point{}));
+    EXPECT_FLOAT_EQ(query.from.z, 0.01f);
+    EXPECT_FLOAT_EQ(query.to.z, 1.99f);
+    EXPECT_FLOAT_EQ(query.to.x, 0.25f);
+    query.blocked = true;
+    EXPECT_FALSE(visible(ref, Point{}));
+}
+
+TEST(BoilingFilter, EmptiesOnlyOutliersAboveTheLocalAverage) {
+    std::vector<Reservoir<LightId>> reservoirs(25, finalised(0u, 4u, 1.0f)); // p-hat W = 1
+    reservoirs[12] = finalised(0u, 4u, 100.0f);                              // p-hat W = 100
+    reservoirs[0] = poisoned();
+    const restir::ImageView<const Reservoir<LightId>> view{reservoirs.data(), 5u, 5u};
+    restir::BoilingFilterParams params = restir::default_boiling_filter_params();
+    params.radius = 2u;
+    params.threshold = 10.0f; // the average over 24 sound reservoirs is (23 + 100) / 24 = 5.1
+    const Reservoir<LightId> centre = restir::boiling_filter({2, 2}, view, params);
+    EXPECT_EQ(centre.contribution_weight, 0.0f);
+    EXPECT_EQ(centre.candidate_count, 4u);
+    expect_same(restir::boiling_filter({1, 1}, view, params), reservoirs[6]);
+    params.threshold = 25.0f;
+    expect_same(restir::boiling_filter({2, 2}, view, params), reservoirs[12]);
+}
+
+} // namespace
