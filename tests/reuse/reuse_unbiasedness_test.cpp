@@ -17,6 +17,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <ostream>
@@ -242,6 +243,26 @@ constexpr std::uint32_t temporal_frames = 20;
 std::uint32_t frames_for(Passes passes) { return passes == Passes::spatial ? 1u : temporal_frames; }
 std::uint32_t trials_for(Passes passes) { return passes == Passes::spatial ? 40'000u : 4'000u; }
 
+// Prints the pixel-averaged relative bias and relative standard deviation of one estimate
+// (the figures in docs/noise-and-bias.md come from these lines).
+void report(const std::string& label, const Pipeline& pipeline,
+            const std::vector<RunningStats>& stats, std::uint32_t last_frame) {
+    double bias_sum = 0.0;
+    double deviation_sum = 0.0;
+    std::uint32_t counted = 0;
+    for (std::uint32_t p = 0; p < pixel_count; ++p) {
+        const double truth = pipeline.truth(p, last_frame);
+        if (truth <= 0.0)
+            continue;
+        bias_sum += (stats[p].mean() - truth) / truth;
+        deviation_sum += std::sqrt(stats[p].variance()) / truth;
+        ++counted;
+    }
+    std::printf("%-40s relative bias %+.4f, relative standard deviation %.3f\n", label.c_str(),
+                bias_sum / static_cast<double>(counted),
+                deviation_sum / static_cast<double>(counted));
+}
+
 class UnbiasedReuse : public ::testing::TestWithParam<ReuseSetup> {};
 
 TEST_P(UnbiasedReuse, MeanMatchesTruthAtEveryPixel) {
@@ -249,6 +270,7 @@ TEST_P(UnbiasedReuse, MeanMatchesTruthAtEveryPixel) {
     Pipeline pipeline(setup);
     const std::uint32_t frames = frames_for(setup.passes);
     const std::vector<RunningStats> stats = pipeline.run(frames, trials_for(setup.passes));
+    report(name_of(setup), pipeline, stats, frames - 1u);
     for (std::uint32_t p = 0; p < pixel_count; ++p)
         EXPECT_TRUE(restir::test::agrees_with(stats[p], pipeline.truth(p, frames - 1u)))
             << name_of(setup) << ", pixel " << p;
@@ -278,22 +300,6 @@ INSTANTIATE_TEST_SUITE_P(Modes, UnbiasedReuse, ::testing::ValuesIn(unbiased_setu
 } // namespace
 
 namespace {
-
-// Prints mean, truth and error in standard errors for each pixel (for docs/noise-and-bias.md).
-void report(const char* label, Pipeline& pipeline, const std::vector<RunningStats>& stats,
-            std::uint32_t last_frame) {
-    double relative_sum = 0.0;
-    std::uint32_t counted = 0;
-    for (std::uint32_t p = 0; p < pixel_count; ++p) {
-        const double truth = pipeline.truth(p, last_frame);
-        if (truth <= 0.0)
-            continue;
-        relative_sum += (stats[p].mean() - truth) / truth;
-        ++counted;
-    }
-    std::printf("%s: mean relative bias over pixels %+.3f\n", label,
-                relative_sum / static_cast<double>(counted));
-}
 
 // "none" (1/M) gives every input the same share whether or not it can produce a sample, so a
 // receiver whose neighbours cannot produce some of its lights (other patches: different
@@ -331,6 +337,28 @@ TEST(BiasedReuse, TemporalOneOverMIsBiasedExactlyWhereTheHistoryIsAnotherSurface
         } else {
             EXPECT_TRUE(restir::test::agrees_with(stats[p], truth)) << "pixel " << p;
         }
+    }
+}
+
+} // namespace
+
+namespace {
+
+// With both passes, or fused, 1/M darkens on average: reported, and the average relative bias
+// over the pixels must be clearly negative.
+TEST(BiasedReuse, OneOverMDarkensTheImageWithBothPasses) {
+    for (Passes passes : {Passes::both, Passes::fused}) {
+        const ReuseSetup setup{BiasCorrection::none, passes, true};
+        Pipeline pipeline(setup);
+        const std::uint32_t last = temporal_frames - 1u;
+        const std::vector<RunningStats> stats = pipeline.run(temporal_frames, trials_for(passes));
+        report(name_of(setup), pipeline, stats, last);
+        RunningStats pixel_biases;
+        for (std::uint32_t p = 0; p < pixel_count; ++p)
+            if (pipeline.truth(p, last) > 0.0)
+                pixel_biases.add((stats[p].mean() - pipeline.truth(p, last)) /
+                                 pipeline.truth(p, last));
+        EXPECT_LT(pixel_biases.mean(), -0.05) << name_of(setup);
     }
 }
 
