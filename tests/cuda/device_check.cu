@@ -50,11 +50,112 @@ RESTIR_HOST_DEVICE PixelResult shade(std::uint32_t pixel, const float* light_x,
     return {reservoir.sample.light, reservoir.contribution_weight, reservoir.candidate_count};
 }
 
+// Reuse: a 64 x 64 image of points on a line under the same lights; each pixel's reservoir
+// comes from `shade`'s RIS, then spatial reuse under the balance heuristic and pairwise MIS.
+struct LinePoint {
+    float x;
+    bool valid;
+};
+RESTIR_HOST_DEVICE glm::vec3 surface_position(const LinePoint& p) { return {p.x, 0.0f, 0.0f}; }
+RESTIR_HOST_DEVICE glm::vec3 surface_normal(const LinePoint&) { return {0.0f, 0.0f, 1.0f}; }
+RESTIR_HOST_DEVICE float surface_depth(const LinePoint&) { return 1.0f; }
+RESTIR_HOST_DEVICE bool is_valid_surface(const LinePoint& p) { return p.valid; }
+
+struct LineTarget {
+    const float* light_x;
+    RESTIR_HOST_DEVICE float operator()(const Candidate& c, const LinePoint& p) const {
+        return FalloffTarget{light_x, p.x}(c);
+    }
+};
+struct HalfBlocked {
+    RESTIR_HOST_DEVICE bool operator()(const Candidate& c, const LinePoint& p) const {
+        return (c.light + static_cast<std::uint32_t>(surface_position(p).x * 64.0f)) % 4u != 0u;
+    }
+};
+
+constexpr std::uint32_t image_side = 64;
+
+RESTIR_HOST_DEVICE PixelResult reuse_pixel(std::uint32_t pixel, const float* light_x,
+                                           const restir::Reservoir<Candidate>* reservoirs,
+                                           const LinePoint* points, bool pairwise) {
+    const restir::ImageView<const restir::Reservoir<Candidate>> view{reservoirs, image_side,
+                                                                     image_side};
+    const restir::ImageView<const LinePoint> surfaces{points, image_side, image_side};
+    restir::SpatialParams params = restir::default_spatial_params();
+    params.radius = 5.0f;
+    params.neighbour_count = 4u;
+    params.reuse.bias_correction =
+        pairwise ? restir::BiasCorrection::pairwise : restir::BiasCorrection::balance_heuristic;
+    constexpr restir::NeighborOffsets offsets = restir::make_neighbor_offsets();
+    const restir::ReuseBridge bridge{LineTarget{light_x}, HalfBlocked{}};
+    restir::Pcg32 rng = restir::make_pixel_rng(pixel, 4u, 2u, 2024u);
+    const restir::PixelCoord p{static_cast<std::int32_t>(pixel % image_side),
+                               static_cast<std::int32_t>(pixel / image_side)};
+    const auto r = restir::spatial_resample(p, view, surfaces, params, offsets, bridge, rng);
+    return {r.sample.light, r.contribution_weight, r.candidate_count};
+}
+
+__global__ void reuse_kernel(const float* light_x, const restir::Reservoir<Candidate>* reservoirs,
+                             const LinePoint* points, bool pairwise, PixelResult* out) {
+    const std::uint32_t pixel = blockIdx.x * blockDim.x + threadIdx.x;
+    if (pixel < image_side * image_side)
+        out[pixel] = reuse_pixel(pixel, light_x, reservoirs, points, pairwise);
+}
+
 __global__ void shade_kernel(const float* light_x, const restir::AliasEntry* entries,
                              std::uint32_t count, std::uint32_t pixels, PixelResult* out) {
     const std::uint32_t pixel = blockIdx.x * blockDim.x + threadIdx.x;
     if (pixel < pixels)
         out[pixel] = shade(pixel, light_x, entries, count);
+}
+
+// Compares GPU results with the same function run on the CPU; returns the mismatch count.
+template <class CpuResult>
+std::uint32_t compare(const char* name, const std::vector<PixelResult>& gpu, CpuResult&& cpu_at) {
+    std::uint32_t mismatches = 0;
+    double max_relative = 0.0;
+    double count_sum = 0.0;
+    for (std::uint32_t p = 0; p < gpu.size(); ++p) {
+        const PixelResult cpu = cpu_at(p);
+        count_sum += cpu.candidate_count;
+        const double relative =
+            std::abs(static_cast<double>(cpu.contribution_weight) - gpu[p].contribution_weight) /
+            (1e-30 + std::abs(static_cast<double>(cpu.contribution_weight)));
+        max_relative = relative > max_relative ? relative : max_relative;
+        if (cpu.light != gpu[p].light || cpu.candidate_count != gpu[p].candidate_count ||
+            relative > 1e-5) {
+            if (mismatches < 3)
+                std::printf("%s pixel %u: CPU light %u W %g M %u, GPU light %u W %g M %u\n", name,
+                            p, cpu.light, static_cast<double>(cpu.contribution_weight),
+                            cpu.candidate_count, gpu[p].light,
+                            static_cast<double>(gpu[p].contribution_weight),
+                            gpu[p].candidate_count);
+            ++mismatches;
+        }
+    }
+    std::printf("%s: %zu pixels (mean M %.1f), %u mismatches between GPU and CPU, max relative W "
+                "difference %.3g\n",
+                name, gpu.size(), count_sum / static_cast<double>(gpu.size()), mismatches,
+                max_relative);
+    return mismatches;
+}
+
+template <class T>
+T* upload(const std::vector<T>& host) {
+    T* device = nullptr;
+    cudaMalloc(&device, host.size() * sizeof(T));
+    cudaMemcpy(device, host.data(), host.size() * sizeof(T), cudaMemcpyHostToDevice);
+    return device;
+}
+
+bool download(std::vector<PixelResult>& host, const PixelResult* device) {
+    cudaError_t status = cudaGetLastError();
+    if (status == cudaSuccess)
+        status = cudaMemcpy(host.data(), device, host.size() * sizeof(PixelResult),
+                            cudaMemcpyDeviceToHost);
+    if (status != cudaSuccess)
+        std::printf("CUDA error: %s\n", cudaGetErrorString(status));
+    return status == cudaSuccess;
 }
 
 } // namespace
@@ -68,47 +169,47 @@ int main() {
         power[i] = 0.01f + next_float(setup);
     }
     const restir::AliasTable table(power);
+    const std::vector<restir::AliasEntry> entries(table.entries().begin(), table.entries().end());
+    float* device_x = upload(light_x);
+    restir::AliasEntry* device_entries = upload(entries);
 
-    float* device_x = nullptr;
-    restir::AliasEntry* device_entries = nullptr;
+    // RIS and a merge, per pixel.
+    std::vector<PixelResult> gpu(pixels);
     PixelResult* device_out = nullptr;
-    cudaMalloc(&device_x, light_count * sizeof(float));
-    cudaMalloc(&device_entries, light_count * sizeof(restir::AliasEntry));
     cudaMalloc(&device_out, pixels * sizeof(PixelResult));
-    cudaMemcpy(device_x, light_x.data(), light_count * sizeof(float), cudaMemcpyHostToDevice);
-    cudaMemcpy(device_entries, table.entries().data(), light_count * sizeof(restir::AliasEntry),
-               cudaMemcpyHostToDevice);
     shade_kernel<<<(pixels + 255) / 256, 256>>>(device_x, device_entries, light_count, pixels,
                                                 device_out);
-    std::vector<PixelResult> gpu(pixels);
-    cudaError_t status = cudaGetLastError();
-    if (status == cudaSuccess)
-        status = cudaMemcpy(gpu.data(), device_out, pixels * sizeof(PixelResult),
-                            cudaMemcpyDeviceToHost);
-    if (status != cudaSuccess) {
-        std::printf("CUDA error: %s\n", cudaGetErrorString(status));
+    if (!download(gpu, device_out))
         return 1;
-    }
+    std::uint32_t mismatches = compare("RIS", gpu, [&](std::uint32_t p) {
+        return shade(p, light_x.data(), entries.data(), light_count);
+    });
 
-    std::uint32_t mismatches = 0;
-    double max_relative = 0.0;
-    for (std::uint32_t p = 0; p < pixels; ++p) {
-        const PixelResult cpu = shade(p, light_x.data(), table.entries().data(), light_count);
-        const double relative =
-            std::abs(static_cast<double>(cpu.contribution_weight) - gpu[p].contribution_weight) /
-            (1e-30 + std::abs(static_cast<double>(cpu.contribution_weight)));
-        max_relative = relative > max_relative ? relative : max_relative;
-        if (cpu.light != gpu[p].light || cpu.candidate_count != gpu[p].candidate_count ||
-            relative > 1e-5) {
-            if (mismatches < 3)
-                std::printf(
-                    "pixel %u: CPU light %u W %g M %u, GPU light %u W %g M %u\n", p, cpu.light,
-                    static_cast<double>(cpu.contribution_weight), cpu.candidate_count, gpu[p].light,
-                    static_cast<double>(gpu[p].contribution_weight), gpu[p].candidate_count);
-            ++mismatches;
-        }
+    // Spatial reuse over reservoirs made on the host.
+    constexpr std::uint32_t image_pixels = image_side * image_side;
+    std::vector<LinePoint> points(image_pixels);
+    std::vector<restir::Reservoir<Candidate>> reservoirs(image_pixels);
+    const PowerDraw draw{restir::PowerLightSampler{table.view()}};
+    for (std::uint32_t p = 0; p < image_pixels; ++p) {
+        points[p] = {static_cast<float>(p % 97u) / 97.0f, p % 13u != 0u};
+        restir::Pcg32 rng = restir::make_pixel_rng(p, 4u, 1u, 2024u);
+        reservoirs[p] =
+            restir::resample_ris(rng, 8u, draw, FalloffTarget{light_x.data(), points[p].x});
+        restir::apply_visibility(reservoirs[p], points[p], HalfBlocked{});
     }
-    std::printf("%u pixels, %u mismatches between GPU and CPU, max relative W difference %.3g\n",
-                pixels, mismatches, max_relative);
+    const restir::Reservoir<Candidate>* device_reservoirs = upload(reservoirs);
+    const LinePoint* device_points = upload(points);
+    for (const bool pairwise : {false, true}) {
+        std::vector<PixelResult> reused(image_pixels);
+        reuse_kernel<<<(image_pixels + 127) / 128, 128>>>(device_x, device_reservoirs,
+                                                          device_points, pairwise, device_out);
+        if (!download(reused, device_out))
+            return 1;
+        mismatches += compare(
+            pairwise ? "spatial reuse, pairwise" : "spatial reuse, balance heuristic", reused,
+            [&](std::uint32_t p) {
+                return reuse_pixel(p, light_x.data(), reservoirs.data(), points.data(), pairwise);
+            });
+    }
     return mismatches == 0 ? 0 : 1;
 }

@@ -32,7 +32,7 @@ struct NeighborOffsets {
 
 /// The R2 sequence x_n = frac(0.5 + n / g, 0.5 + n / g^2), g the plastic number, mapped to
 /// [-1, 1]^2; points outside the unit disk are skipped.
-constexpr NeighborOffsets make_neighbor_offsets() noexcept {
+RESTIR_HOST_DEVICE constexpr NeighborOffsets make_neighbor_offsets() noexcept {
     constexpr double plastic = 1.32471795724474602596;
     constexpr double a1 = 1.0 / plastic;
     constexpr double a2 = 1.0 / (plastic * plastic);
