@@ -12,6 +12,7 @@
 #include "restir/core/math.hpp"
 #include "restir/core/reservoir.hpp"
 #include "restir/core/rng.hpp"
+#include "restir/reuse/reuse_input.hpp"
 #include "restir/reuse/similarity.hpp"
 #include "restir/reuse/visibility.hpp"
 
@@ -54,14 +55,6 @@ struct ReuseParams {
 
 /// Largest number of reservoirs one reuse step combines (the canonical one included).
 inline constexpr std::uint32_t max_reuse_inputs = 16u;
-
-/// A reservoir borrowed from another pixel or frame, with the surface it was computed for.
-/// Both pointers refer into the caller's buffers.
-template <class Sample, class SurfaceT>
-struct ReuseInput {
-    const Reservoir<Sample>* reservoir = nullptr;
-    const SurfaceT* surface = nullptr;
-};
 
 /// The functions reuse evaluates: the target p-hat(sample, surface), the visibility of a
 /// sample from a surface, and the material hook of the similarity test.

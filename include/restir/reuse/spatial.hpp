@@ -13,6 +13,7 @@
 #include "restir/reuse/bias_correction.hpp"
 #include "restir/reuse/image_view.hpp"
 #include "restir/reuse/neighbor_offsets.hpp"
+#include "restir/reuse/reuse_input.hpp"
 #include "restir/reuse/similarity.hpp"
 
 #include <cstdint>
@@ -52,15 +53,12 @@ RESTIR_HOST_DEVICE std::uint32_t gather_spatial_neighbours(
                                                 (offset.x < 0.0f ? -0.5f : 0.5f)),
             pixel.y + static_cast<std::int32_t>(offset.y * params.radius +
                                                 (offset.y < 0.0f ? -0.5f : 0.5f))};
-        if ((neighbour.x == pixel.x && neighbour.y == pixel.y) || !reservoirs.contains(neighbour) ||
-            !surfaces.contains(neighbour))
+        if (neighbour.x == pixel.x && neighbour.y == pixel.y)
             continue;
-        const S& neighbour_surface = surfaces[neighbour];
-        const Reservoir<Sample>& neighbour_reservoir = reservoirs[neighbour];
-        if (!neighbour_reservoir.is_well_formed() ||
-            !surfaces_similar(surface, neighbour_surface, params.similarity, material_test))
-            continue;
-        out[found++] = {&neighbour_reservoir, &neighbour_surface};
+        const ReuseInput<Sample, S> input = reusable_input(neighbour, surface, reservoirs, surfaces,
+                                                           params.similarity, material_test);
+        if (input.reservoir != nullptr)
+            out[found++] = input;
     }
     return found;
 }

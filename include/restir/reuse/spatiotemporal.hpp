@@ -12,6 +12,7 @@
 #include "restir/reuse/bias_correction.hpp"
 #include "restir/reuse/image_view.hpp"
 #include "restir/reuse/neighbor_offsets.hpp"
+#include "restir/reuse/reuse_input.hpp"
 #include "restir/reuse/similarity.hpp"
 #include "restir/reuse/spatial.hpp"
 #include "restir/reuse/temporal.hpp"
@@ -41,11 +42,10 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
 
     ReuseInput<Sample, S> inputs[max_reuse_inputs];
     std::uint32_t count = 0u;
-    if (previous_reservoirs.contains(previous) && previous_surfaces.contains(previous) &&
-        previous_reservoirs[previous].is_well_formed() &&
-        surfaces_similar(surface, previous_surfaces[previous], temporal.similarity,
-                         bridge.material_test))
-        inputs[count++] = {&previous_reservoirs[previous], &previous_surfaces[previous]};
+    inputs[0] = reusable_input(previous, surface, previous_reservoirs, previous_surfaces,
+                               temporal.similarity, bridge.material_test);
+    if (inputs[0].reservoir != nullptr)
+        ++count;
 
     SpatialParams neighbourhood = spatial;
     neighbourhood.similarity = temporal.similarity;

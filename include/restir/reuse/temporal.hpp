@@ -11,6 +11,7 @@
 #include "restir/core/rng.hpp"
 #include "restir/reuse/bias_correction.hpp"
 #include "restir/reuse/image_view.hpp"
+#include "restir/reuse/reuse_input.hpp"
 #include "restir/reuse/similarity.hpp"
 
 #include <concepts>
@@ -71,18 +72,15 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
                       const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng) {
     if (!is_valid_surface(surface))
         return current;
-    const PixelCoord previous = history_pixel(reproject(pixel), params);
-    if (!previous_reservoirs.contains(previous) || !previous_surfaces.contains(previous))
+    ReuseInput<Sample, S> input =
+        reusable_input(history_pixel(reproject(pixel), params), surface, previous_reservoirs,
+                       previous_surfaces, params.similarity, bridge.material_test);
+    if (input.reservoir == nullptr)
         return current;
-    const S& previous_surface = previous_surfaces[previous];
-    if (!surfaces_similar(surface, previous_surface, params.similarity, bridge.material_test))
-        return current;
-    Reservoir<Sample> history = previous_reservoirs[previous];
-    if (!history.is_well_formed())
-        return current;
+    Reservoir<Sample> history = *input.reservoir;
     if (params.history_cap_multiplier > 0u)
         history.cap_candidate_count(params.history_cap_multiplier * current.candidate_count);
-    const ReuseInput<Sample, S> input{&history, &previous_surface};
+    input.reservoir = &history;
     return combine_reservoirs(current, surface, &input, 1u, params.reuse, bridge, rng);
 }
 
