@@ -106,8 +106,9 @@ struct Reproject {
     PixelCoord operator()(PixelCoord p) const { return {p.x + (p.y == 1 ? 2 : 1), p.y}; }
 };
 
-// both: temporal then spatial; fused: one spatiotemporal pass over the previous frame.
-enum class Passes { spatial, temporal, both, fused };
+// both: temporal then spatial; fused: one spatiotemporal pass over the previous frame;
+// two_spatial: two spatial passes in one frame, the second reusing the first's output.
+enum class Passes { spatial, temporal, both, fused, two_spatial };
 
 struct ReuseSetup {
     BiasCorrection mode;
@@ -117,7 +118,7 @@ struct ReuseSetup {
 
 std::string name_of(const ReuseSetup& s) {
     const char* modes[] = {"none", "one_over_z", "balance_heuristic", "pairwise"};
-    const char* passes[] = {"spatial", "temporal", "both", "fused"};
+    const char* passes[] = {"spatial", "temporal", "both", "fused", "two_spatial"};
     return std::string(modes[static_cast<int>(s.mode)]) + "/" + passes[static_cast<int>(s.passes)] +
            (s.visibility_reuse ? "" : "/no-visibility-reuse");
 }
@@ -210,12 +211,16 @@ private:
             }
             current = temporal;
         }
-        if (setup_.passes == Passes::spatial || setup_.passes == Passes::both) {
+        const std::uint32_t spatial_passes =
+            setup_.passes == Passes::two_spatial                                ? 2u
+            : setup_.passes == Passes::spatial || setup_.passes == Passes::both ? 1u
+                                                                                : 0u;
+        for (std::uint32_t pass = 0; pass < spatial_passes; ++pass) {
             const restir::ImageView<const Reservoir<LightId>> input{current.data(), width, height};
             std::vector<Reservoir<LightId>> spatial(pixel_count);
             for (std::uint32_t i = 0; i < pixel_count; ++i) {
                 const PixelCoord p = pixel_of(i);
-                restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 2u, trial);
+                restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 2u + pass, trial);
                 spatial[i] = restir::spatial_resample(p, input, surface_view, spatial_, offsets_,
                                                       bridge, rng);
             }
@@ -241,8 +246,11 @@ private:
 
 constexpr std::uint32_t temporal_frames = 20;
 
-std::uint32_t frames_for(Passes passes) { return passes == Passes::spatial ? 1u : temporal_frames; }
-std::uint32_t trials_for(Passes passes) { return passes == Passes::spatial ? 40'000u : 4'000u; }
+bool single_frame(Passes passes) {
+    return passes == Passes::spatial || passes == Passes::two_spatial;
+}
+std::uint32_t frames_for(Passes passes) { return single_frame(passes) ? 1u : temporal_frames; }
+std::uint32_t trials_for(Passes passes) { return single_frame(passes) ? 40'000u : 4'000u; }
 
 // Prints the pixel-averaged relative bias and relative standard deviation of one estimate
 // (the figures in docs/noise-and-bias.md come from these lines).
@@ -281,7 +289,8 @@ std::vector<ReuseSetup> unbiased_setups() {
     std::vector<ReuseSetup> setups;
     for (BiasCorrection mode :
          {BiasCorrection::one_over_z, BiasCorrection::balance_heuristic, BiasCorrection::pairwise})
-        for (Passes passes : {Passes::spatial, Passes::temporal, Passes::both, Passes::fused})
+        for (Passes passes :
+             {Passes::spatial, Passes::two_spatial, Passes::temporal, Passes::both, Passes::fused})
             setups.push_back({mode, passes, true});
     for (BiasCorrection mode :
          {BiasCorrection::one_over_z, BiasCorrection::balance_heuristic, BiasCorrection::pairwise})
