@@ -139,18 +139,24 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
         break;
     }
     case BiasCorrection::balance_heuristic: {
-        // m_j(x) = M_j p-hat_j(x) / (M_c p-hat_q(x) + sum_l M_l p-hat_l(x)).
-        const auto neighbour_sum = [&](const Sample& x) {
+        // m_j(x) = M_j p-hat_j(x) / (M_c p-hat_q(x) + sum_l M_l p-hat_l(x)). Sums the
+        // neighbours' terms at x and returns the term of neighbour `own` through `own_term`.
+        const auto neighbour_sum = [&](const Sample& x, std::uint32_t own, float& own_term) {
             float sum = 0.0f;
-            for (std::uint32_t l = 0; l < k; ++l)
-                sum += static_cast<float>(inputs[l].reservoir->candidate_count) *
-                       target_at(x, *inputs[l].surface);
+            for (std::uint32_t l = 0; l < k; ++l) {
+                const float term = static_cast<float>(inputs[l].reservoir->candidate_count) *
+                                   target_at(x, *inputs[l].surface);
+                sum += term;
+                if (l == own)
+                    own_term = term;
+            }
             return sum;
         };
         float canonical_mis = 0.0f;
         if (canonical.has_sample()) {
             const float own = canonical_count * canonical.target_value;
-            canonical_mis = safe_divide(own, own + neighbour_sum(canonical.sample));
+            float unused = 0.0f;
+            canonical_mis = safe_divide(own, own + neighbour_sum(canonical.sample, k, unused));
         }
         result.merge_with_mis(canonical, canonical.target_value, canonical_mis, next_float(rng));
         for (std::uint32_t i = 0; i < k; ++i) {
@@ -159,9 +165,9 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
             float mis_weight = 0.0f;
             if (r.has_sample()) {
                 here = target_here(r.sample);
-                const float own =
-                    static_cast<float>(r.candidate_count) * target_at(r.sample, *inputs[i].surface);
-                mis_weight = safe_divide(own, canonical_count * here + neighbour_sum(r.sample));
+                float own = 0.0f;
+                const float all_neighbours = neighbour_sum(r.sample, i, own);
+                mis_weight = safe_divide(own, canonical_count * here + all_neighbours);
             }
             result.merge_with_mis(r, here, mis_weight, next_float(rng));
         }
