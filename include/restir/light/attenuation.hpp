@@ -34,13 +34,22 @@ RESTIR_HOST_DEVICE inline float clamped_inverse_square(float distance,
 enum class Attenuation {
     yuksel,                 ///< `yuksel_attenuation`, parameter = sphere radius r.
     clamped_inverse_square, ///< `clamped_inverse_square`, parameter = minimum distance.
+    inverse_square,         ///< Exact 1/d^2, unbounded near the light (reference computations).
 };
 
-/// Falloff of the chosen kind; `parameter` is the radius or the minimum distance.
+/// Falloff of the chosen kind; `parameter` is the radius or the minimum distance (unused for
+/// the exact inverse square).
 RESTIR_HOST_DEVICE inline float attenuate(Attenuation kind, float distance,
                                           float parameter) noexcept {
-    return kind == Attenuation::yuksel ? yuksel_attenuation(distance, parameter)
-                                       : clamped_inverse_square(distance, parameter);
+    switch (kind) {
+    case Attenuation::yuksel:
+        return yuksel_attenuation(distance, parameter);
+    case Attenuation::clamped_inverse_square:
+        return clamped_inverse_square(distance, parameter);
+    case Attenuation::inverse_square:
+        break;
+    }
+    return 1.0f / (distance * distance);
 }
 
 } // namespace restir

@@ -1,0 +1,64 @@
+/// @file light/irradiance.hpp
+/// What one light point contributes to the irradiance at a receiver, without visibility: the
+/// common core of target functions and shading for emitters and VPLs alike.
+#pragma once
+
+#include "restir/concepts.hpp"
+#include "restir/config.hpp"
+#include "restir/core/math.hpp"
+#include "restir/light/attenuation.hpp"
+
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
+
+#include <cmath>
+
+namespace restir {
+
+/// Distance falloff applied to delta lights (VPLs and point lights); area lights use the exact
+/// geometry term, which their area density keeps finite in expectation.
+struct Falloff {
+    Attenuation kind = Attenuation::yuksel;
+    float parameter = 0.05f; ///< Yuksel radius or minimum distance, in scene units.
+};
+
+/// Emission towards `direction` (unit, from the light to the receiver) relative to the
+/// light's `radiance`: max(0, cos theta) about the light's normal for one-sided emitters (area
+/// lights, and VPLs, which are points of diffuse surfaces), 1 when the normal is zero
+/// (isotropic point lights, whose `radiance` is an intensity).
+RESTIR_HOST_DEVICE inline float emission_cosine(glm::vec3 light_normal,
+                                                glm::vec3 direction) noexcept {
+    if (light_normal.x == 0.0f && light_normal.y == 0.0f && light_normal.z == 0.0f)
+        return 1.0f;
+    return max_of(0.0f, glm::dot(light_normal, direction));
+}
+
+/// Unshadowed irradiance at (`position`, `normal`) from one light point, as a Monte Carlo
+/// estimate per point:
+///   area light: L cos(theta_light) cos(theta_receiver) / (d^2 area_pdf)   (one sample of E);
+///   delta light: I cos(theta_light) cos(theta_receiver) falloff(d)        (exact, with the
+///                chosen falloff in place of 1/d^2).
+/// For a VPL of reflected flux Phi, I = Phi / pi (`vpl_light_sample`). Multiply by the
+/// receiver's BRDF (albedo / pi for a diffuse one) for outgoing radiance.
+template <LightPoint P>
+RESTIR_HOST_DEVICE glm::vec3 unshadowed_irradiance(const P& light, glm::vec3 position,
+                                                   glm::vec3 normal, const Falloff& falloff) {
+    const glm::vec3 offset = glm::vec3(light.position) - position;
+    const float distance_squared = glm::dot(offset, offset);
+    if (!(distance_squared > 0.0f))
+        return glm::vec3(0.0f);
+    const float distance = std::sqrt(distance_squared);
+    const glm::vec3 direction = offset / distance; // receiver -> light
+    const float cos_receiver = max_of(0.0f, glm::dot(normal, direction));
+    const float cos_light = emission_cosine(light.normal, -direction);
+    const float geometry = cos_receiver * cos_light;
+    if (geometry == 0.0f)
+        return glm::vec3(0.0f);
+    if (light.is_delta)
+        return glm::vec3(light.radiance) *
+               (geometry * attenuate(falloff.kind, distance, falloff.parameter));
+    return glm::vec3(light.radiance) *
+           safe_divide(geometry, distance_squared * static_cast<float>(light.area_pdf));
+}
+
+} // namespace restir

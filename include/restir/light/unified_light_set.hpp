@@ -1,0 +1,71 @@
+/// @file light/unified_light_set.hpp
+/// Emitters and VPLs as one light set with one id space, so that RIS and ReSTIR sample direct
+/// and indirect light through the same reservoirs and the same candidate distribution.
+#pragma once
+
+#include "restir/concepts.hpp"
+#include "restir/config.hpp"
+#include "restir/light/light_sample.hpp"
+#include "restir/vpl/vpl.hpp"
+
+#include <glm/vec2.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace restir {
+
+/// Ids [0, E) are the application's emitters, [E, E + V) the VPLs. Holds views: the emitter set
+/// and the VPL array must outlive it. Satisfies `LightSet`; a `LightSampleRef` into it stays
+/// meaningful for as long as the VPL array is unchanged (reshooting photons invalidates the VPL
+/// ids held by reservoirs, so clear or rebuild them then).
+template <LightSet Emitters>
+struct UnifiedLightSet {
+    const Emitters* emitters = nullptr;
+    const Vpl* vpls = nullptr;
+    std::uint32_t vpl_count = 0u;
+
+    RESTIR_HOST_DEVICE std::uint32_t emitter_count() const { return emitters->light_count(); }
+    RESTIR_HOST_DEVICE std::uint32_t light_count() const { return emitter_count() + vpl_count; }
+    RESTIR_HOST_DEVICE bool is_vpl(std::uint32_t id) const { return id >= emitter_count(); }
+
+    /// The emitter's point for `uv`, or the VPL (which ignores `uv`).
+    RESTIR_HOST_DEVICE LightSample sample_point(std::uint32_t id, glm::vec2 uv) const {
+        const std::uint32_t emitter_total = emitter_count();
+        if (id >= emitter_total)
+            return vpl_light_sample(vpls[id - emitter_total]);
+        const auto p = emitters->sample_point(id, uv);
+        LightSample point;
+        point.position = p.position;
+        point.normal = p.normal;
+        point.radiance = p.radiance;
+        point.area_pdf = p.area_pdf;
+        point.is_delta = p.is_delta;
+        return point;
+    }
+};
+
+/// The power of each light of a unified set, the weights of its candidate distribution
+/// (feed them to an `AliasTable` and a `PowerLightSampler`): emitted flux summed over the
+/// colour channels for emitters (pi L / area_pdf at the emitter's centre for area lights,
+/// 4 pi I for isotropic point lights), reflected flux for VPLs.
+template <LightSet Emitters>
+std::vector<float> unified_light_powers(const UnifiedLightSet<Emitters>& lights) {
+    std::vector<float> powers(lights.light_count());
+    constexpr float pi = 3.14159265358979f;
+    for (std::uint32_t id = 0; id < lights.light_count(); ++id) {
+        const LightSample p = lights.sample_point(id, glm::vec2(0.5f));
+        const float radiance = p.radiance.x + p.radiance.y + p.radiance.z;
+        float power = 0.0f;
+        if (lights.is_vpl(id))
+            power = pi * radiance; // Phi_r = pi * (Phi_r / pi)
+        else if (p.is_delta)
+            power = 4.0f * pi * radiance;
+        else if (p.area_pdf > 0.0f)
+            power = pi * radiance / p.area_pdf;
+        powers[id] = power >= 0.0f && power < 3.0e38f ? power : 0.0f;
+    }
+    return powers;
+}
+
+} // namespace restir

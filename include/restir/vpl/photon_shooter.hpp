@@ -1,0 +1,197 @@
+/// @file vpl/photon_shooter.hpp
+/// Steps 2 and 3 of instant radiosity (Keller 1997): photons leave the emitter points in
+/// proportion to their flux, are traced through the scene with the application's ray query,
+/// and leave a VPL at every diffuse hit; Russian roulette on the throughput ends their paths.
+#pragma once
+
+#include "restir/concepts.hpp"
+#include "restir/config.hpp"
+#include "restir/core/math.hpp"
+#include "restir/core/rng.hpp"
+#include "restir/sampling/alias_table.hpp"
+#include "restir/vpl/emitter_points.hpp"
+#include "restir/vpl/vpl.hpp"
+
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <concepts>
+#include <cstdint>
+#include <vector>
+
+namespace restir {
+
+/// Closest-hit ray casting for photons. Required expression:
+///   `query.closest_hit(origin, direction)` -> a `Surface` (position, normal, ...), with
+///   `is_valid_surface(hit)` false when the ray leaves the scene. `direction` is unit length;
+///   the shooter offsets `origin` off the surface it starts on.
+template <class Q>
+concept ClosestHitQuery = requires(const Q& query, glm::vec3 origin, glm::vec3 direction) {
+    { query.closest_hit(origin, direction) } -> Surface;
+};
+
+/// What the application's BSDF does to a photon at a hit.
+struct Scattering {
+    glm::vec3 direction{0.0f};      ///< Sampled continuation direction (unit).
+    glm::vec3 weight{0.0f};         ///< BSDF * cos / pdf of `direction` (the albedo, for a
+                                    ///< Lambertian surface sampled by cosine); 0 absorbs.
+    glm::vec3 diffuse_albedo{0.0f}; ///< Diffuse reflectance, stored with a VPL deposited here.
+    bool is_diffuse = true;         ///< VPLs are deposited at diffuse hits only.
+    bool is_emissive = false;       ///< No VPL on emitters: their light is direct light.
+};
+
+/// The scatter hook. Required expression:
+///   `scatter(hit, incoming, rng)` -> Scattering, where `incoming` is the photon's unit
+///   direction of travel and `rng` a UniformRng for sampling the continuation.
+template <class F, class Hit, class Rng>
+concept ScatterFunction = requires(const F& scatter, const Hit& hit, glm::vec3 incoming, Rng& rng) {
+    { scatter(hit, incoming, rng) } -> std::convertible_to<Scattering>;
+};
+
+/// Settings of a photon pass.
+struct PhotonParams {
+    std::uint32_t photon_count = 100'000u;  ///< Photons shot in total (the budget).
+    std::uint32_t max_bounces = 4u;         ///< Diffuse hits per photon that may hold a VPL
+                                            ///< (1 = one-bounce indirect light only).
+    std::uint32_t points_per_emitter = 16u; ///< Stratified point lights per area emitter.
+    float ray_offset = 1e-4f;               ///< Origin offset off surfaces, in scene units.
+    std::uint64_t seed = 0u;                ///< Every photon's random stream derives from it.
+};
+
+RESTIR_HOST_DEVICE constexpr PhotonParams default_photon_params() noexcept { return {}; }
+
+/// Where photons come from: the emitter points and an alias table over their flux. Views, so
+/// they can live in device memory.
+struct PhotonSource {
+    const EmitterPoint* points = nullptr;
+    AliasTableView table{};
+};
+
+/// Unit vector with density cos(theta) / pi about `normal` (Malley's method), or uniform over
+/// the sphere (density 1 / 4 pi) when `normal` is zero.
+RESTIR_HOST_DEVICE inline glm::vec3 sample_emission_direction(glm::vec3 normal, float u0,
+                                                              float u1) {
+    constexpr float two_pi = 6.28318530717959f;
+    const float phi = two_pi * u1;
+    if (normal.x == 0.0f && normal.y == 0.0f && normal.z == 0.0f) {
+        const float z = 1.0f - 2.0f * u0;
+        const float r = std::sqrt(max_of(0.0f, 1.0f - z * z));
+        return {r * std::cos(phi), r * std::sin(phi), z};
+    }
+    const float r = std::sqrt(u0);
+    const float z = std::sqrt(max_of(0.0f, 1.0f - u0));
+    // Orthonormal basis about the normal (Duff et al. 2017).
+    const float sign = normal.z >= 0.0f ? 1.0f : -1.0f;
+    const float a = -1.0f / (sign + normal.z);
+    const float b = normal.x * normal.y * a;
+    const glm::vec3 tangent{1.0f + sign * normal.x * normal.x * a, sign * b, -sign * normal.x};
+    const glm::vec3 bitangent{b, sign + normal.y * normal.y * a, -normal.y};
+    return glm::normalize(tangent * (r * std::cos(phi)) + bitangent * (r * std::sin(phi)) +
+                          normal * z);
+}
+
+/// Traces photon `photon_index` of `params.photon_count` and writes the VPLs it deposits to
+/// `out[0 .. max_bounces)`; returns how many. The photon's random numbers come from its own
+/// stream (`make_pixel_rng(photon_index, 0, 1, seed)`), so the result does not depend on which
+/// thread traces it. Flux bookkeeping: the photon leaves emitter point j, chosen with
+/// probability p_j, carrying Phi_j / (p_j N); at a diffuse hit it deposits Phi * albedo
+/// (reflected flux); it continues with probability q = min(1, max channel of the BSDF weight)
+/// and, if it does, carries Phi * weight / q. Every step is unbiased, so the expected VPL flux
+/// equals the flux reflected by diffuse surfaces up to `max_bounces` bounces.
+template <ClosestHitQuery Query, class Scatter>
+RESTIR_HOST_DEVICE std::uint32_t
+trace_photon(std::uint32_t photon_index, const PhotonSource& source, const Query& query,
+             const Scatter& scatter, const PhotonParams& params, Vpl* out) {
+    if (source.table.size == 0u || params.photon_count == 0u)
+        return 0u;
+    Pcg32 rng = make_pixel_rng(photon_index, 0u, 1u, params.seed);
+    const float u_bucket = next_float(rng);
+    const float u_choice = next_float(rng);
+    const DiscreteSample choice = source.table.sample(u_bucket, u_choice);
+    if (!(choice.pmf > 0.0f))
+        return 0u;
+    const EmitterPoint& emitter = source.points[choice.index];
+    glm::vec3 power = emitter.flux / (choice.pmf * static_cast<float>(params.photon_count));
+    const float u0 = next_float(rng);
+    const float u1 = next_float(rng);
+    glm::vec3 direction = sample_emission_direction(emitter.normal, u0, u1);
+    glm::vec3 origin = emitter.position + emitter.normal * params.ray_offset;
+
+    std::uint32_t written = 0u;
+    for (std::uint32_t bounce = 1u; bounce <= params.max_bounces; ++bounce) {
+        const auto hit = query.closest_hit(origin, direction);
+        if (!is_valid_surface(hit))
+            break;
+        const glm::vec3 position = surface_position(hit);
+        glm::vec3 normal = surface_normal(hit);
+        if (glm::dot(normal, direction) > 0.0f) // face the side the photon came from
+            normal = -normal;
+        const Scattering s = scatter(hit, direction, rng);
+        const glm::vec3 reflected = power * s.diffuse_albedo;
+        if (s.is_diffuse && !s.is_emissive && reflected.x + reflected.y + reflected.z > 0.0f)
+            out[written++] = {position, normal, reflected, s.diffuse_albedo};
+        if (bounce == params.max_bounces)
+            break;
+        // Russian roulette on the throughput.
+        const float survival = min_of(1.0f, max_of(s.weight.x, max_of(s.weight.y, s.weight.z)));
+        if (!(survival > 0.0f) || next_float(rng) >= survival)
+            break;
+        power *= s.weight / survival;
+        direction = s.direction;
+        const float side = glm::dot(direction, normal) >= 0.0f ? 1.0f : -1.0f;
+        origin = position + normal * (side * params.ray_offset);
+    }
+    return written;
+}
+
+/// Calls `body(i)` for i in [0, count) on the calling thread; pass your own (a thread pool's
+/// parallel for) to `shoot_photons` to trace in parallel.
+struct SequentialFor {
+    template <class Body>
+    void operator()(std::uint32_t count, Body&& body) const {
+        for (std::uint32_t i = 0; i < count; ++i)
+            body(i);
+    }
+};
+
+/// Shoots `params.photon_count` photons from the emitters of `lights` and returns the VPLs,
+/// ordered by photon and bounce, so the result is the same whatever `parallel_for` does
+/// (`parallel_for(count, body)` must call `body(i)` once for every i in [0, count), on any
+/// threads). No emitters, emitters without flux, or a budget of 0 give an empty set.
+template <LightSet Lights, ClosestHitQuery Query, class Scatter, class ParallelFor = SequentialFor>
+std::vector<Vpl> shoot_photons(const Lights& lights, const Query& query, const Scatter& scatter,
+                               const PhotonParams& params, ParallelFor&& parallel_for = {}) {
+    std::vector<Vpl> vpls;
+    if (params.photon_count == 0u || params.max_bounces == 0u)
+        return vpls;
+    const std::vector<EmitterPoint> points =
+        make_emitter_points(lights, params.points_per_emitter, params.seed);
+    if (points.empty())
+        return vpls;
+    std::vector<float> power(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i)
+        power[i] = points[i].flux.x + points[i].flux.y + points[i].flux.z;
+    const AliasTable table(power);
+    const PhotonSource source{points.data(), table.view()};
+
+    // Batches bound the scratch memory; each photon owns max_bounces slots in its batch.
+    constexpr std::uint32_t batch_size = 1u << 14u;
+    const std::uint32_t slots = params.max_bounces;
+    std::vector<Vpl> scratch(static_cast<std::size_t>(batch_size) * slots);
+    std::vector<std::uint32_t> counts(batch_size);
+    for (std::uint32_t first = 0; first < params.photon_count; first += batch_size) {
+        const std::uint32_t n = min_of(batch_size, params.photon_count - first);
+        parallel_for(n, [&](std::uint32_t i) {
+            counts[i] = trace_photon(first + i, source, query, scatter, params,
+                                     scratch.data() + static_cast<std::size_t>(i) * slots);
+        });
+        for (std::uint32_t i = 0; i < n; ++i)
+            vpls.insert(vpls.end(), scratch.begin() + static_cast<std::ptrdiff_t>(i * slots),
+                        scratch.begin() + static_cast<std::ptrdiff_t>(i * slots + counts[i]));
+    }
+    return vpls;
+}
+
+} // namespace restir

@@ -1,0 +1,232 @@
+// The photon shooter: energy conservation in a closed box, one-bounce indirect irradiance
+// against direct Monte Carlo integration, determinism across threads, and bad input.
+#include <restir/restir.hpp>
+
+#include "support/statistics.hpp"
+#include "vpl/box_scene.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <thread>
+#include <vector>
+
+namespace {
+
+using restir::PhotonParams;
+using restir::Vpl;
+using restir::test::ClosedBox;
+using restir::test::FloorOnly;
+using restir::test::Lambertian;
+using restir::test::RectangleLights;
+using restir::test::RunningStats;
+
+glm::dvec3 total_flux(const std::vector<Vpl>& vpls) {
+    glm::dvec3 sum(0.0);
+    for (const Vpl& v : vpls)
+        sum += glm::dvec3(v.flux);
+    return sum;
+}
+
+RectangleLights box_light() {
+    return {{restir::test::ceiling_light(0.9f, 0.4f, glm::vec3(2.0f, 1.0f, 0.5f))}};
+}
+
+// First bounce: every photon leaves with Phi / N (the emitter points share the flux equally,
+// and are chosen in proportion to it) and hits a wall of albedo a, so the deposited reflected
+// flux is exactly Phi * a: the estimator has no variance here, and only float rounding of the
+// per-photon sums separates it from the truth.
+TEST(PhotonShooter, FirstBounceDepositsThePhotonFluxTimesTheAlbedo) {
+    const RectangleLights lights = box_light();
+    const glm::vec3 albedo(0.3f, 0.5f, 0.7f);
+    PhotonParams params = restir::default_photon_params();
+    params.photon_count = 20'000u;
+    params.max_bounces = 1u;
+    const std::vector<Vpl> vpls =
+        restir::shoot_photons(lights, ClosedBox{}, Lambertian{albedo}, params);
+    ASSERT_EQ(vpls.size(), params.photon_count);
+    const glm::dvec3 expected = glm::dvec3(lights.flux()) * glm::dvec3(albedo);
+    const glm::dvec3 sum = total_flux(vpls);
+    for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(sum[c], expected[c], 1e-5 * expected[c]) << "channel " << c;
+}
+
+// All bounces: Russian roulette (survival = the largest channel of the albedo) makes the
+// number of VPLs per photon random; the expected reflected flux per channel is
+// Phi a (1 + a + ... + a^(L-1)) = Phi a (1 - a^L) / (1 - a) for a bounce limit L.
+TEST(PhotonShooter, AllBouncesDepositTheGeometricSeriesOfReflectedFlux) {
+    const RectangleLights lights = box_light();
+    const glm::vec3 albedo(0.3f, 0.5f, 0.7f);
+    PhotonParams params = restir::default_photon_params();
+    params.photon_count = 2'000u;
+    params.max_bounces = 8u;
+    RunningStats channel[3];
+    for (std::uint32_t trial = 0; trial < 400u; ++trial) {
+        params.seed = trial;
+        const glm::dvec3 sum =
+            total_flux(restir::shoot_photons(lights, ClosedBox{}, Lambertian{albedo}, params));
+        for (int c = 0; c < 3; ++c)
+            channel[c].add(sum[c]);
+    }
+    for (int c = 0; c < 3; ++c) {
+        const double a = albedo[c];
+        const double expected = static_cast<double>(lights.flux()[c]) * a *
+                                (1.0 - std::pow(a, params.max_bounces)) / (1.0 - a);
+        EXPECT_TRUE(restir::test::agrees_with(channel[c], expected)) << "channel " << c;
+    }
+}
+
+// One-bounce indirect irradiance at a sensor facing a lit floor, from the VPLs (exact 1/d^2, no
+// clamping) and from a direct Monte Carlo estimate of the same double integral
+//   E(r) = int_floor int_emitter (rho / pi) L G(e, y) G(y, r) dA_e dA_y.
+TEST(PhotonShooter, VplIndirectIrradianceMatchesDirectIntegration) {
+    const float floor_half = 2.0f;
+    const float rho = 0.6f;
+    const RectangleLights lights{{restir::test::ceiling_light(1.0f, 0.5f, glm::vec3(1.0f))}};
+    const glm::vec3 sensor(0.8f, 0.3f, 0.1f);
+    const glm::vec3 sensor_normal(0.0f, -1.0f, 0.0f);
+    const restir::Falloff exact{restir::Attenuation::inverse_square, 0.0f};
+
+    PhotonParams params = restir::default_photon_params();
+    params.photon_count = 4'000u;
+    params.max_bounces = 1u;
+    RunningStats from_vpls;
+    for (std::uint32_t trial = 0; trial < 300u; ++trial) {
+        params.seed = 1000u + trial;
+        double e = 0.0;
+        for (const Vpl& v : restir::shoot_photons(lights, FloorOnly{floor_half},
+                                                  Lambertian{glm::vec3(rho)}, params))
+            e += static_cast<double>(restir::unshadowed_irradiance(restir::vpl_light_sample(v),
+                                                                   sensor, sensor_normal, exact)
+                                         .x);
+        from_vpls.add(e);
+    }
+
+    // Direct integration: y uniform on the floor, e uniform on the emitter.
+    const restir::test::Rectangle& emitter = lights.rectangles[0];
+    const double floor_area = 4.0 * static_cast<double>(floor_half * floor_half);
+    const double emitter_area = emitter.area();
+    restir::Pcg32 rng = restir::make_pixel_rng(0u, 0u, 0u, 77u);
+    RunningStats direct;
+    for (int i = 0; i < 2'000'000; ++i) {
+        const glm::vec3 y{floor_half * (2.0f * next_float(rng) - 1.0f), 0.0f,
+                          floor_half * (2.0f * next_float(rng) - 1.0f)};
+        const restir::LightSample e = lights.sample_point(0u, {next_float(rng), next_float(rng)});
+        const glm::vec3 up(0.0f, 1.0f, 0.0f);
+        const glm::vec3 to_emitter = e.position - y;
+        const float d1 = glm::length(to_emitter);
+        const float g1 = std::fmax(0.0f, glm::dot(up, to_emitter / d1)) *
+                         std::fmax(0.0f, glm::dot(e.normal, -to_emitter / d1)) / (d1 * d1);
+        const glm::vec3 to_sensor = sensor - y;
+        const float d2 = glm::length(to_sensor);
+        const float g2 = std::fmax(0.0f, glm::dot(up, to_sensor / d2)) *
+                         std::fmax(0.0f, glm::dot(sensor_normal, -to_sensor / d2)) / (d2 * d2);
+        direct.add(floor_area * emitter_area * static_cast<double>(rho / 3.14159265f * g1 * g2));
+    }
+
+    const double difference = std::abs(from_vpls.mean() - direct.mean());
+    const double combined = std::sqrt(from_vpls.standard_error() * from_vpls.standard_error() +
+                                      direct.standard_error() * direct.standard_error());
+    EXPECT_LT(difference, 4.0 * combined)
+        << "VPLs " << from_vpls.mean() << " +- " << from_vpls.standard_error() << ", direct "
+        << direct.mean() << " +- " << direct.standard_error();
+}
+
+// Four threads interleaving photons give exactly the VPLs of one thread.
+TEST(PhotonShooter, ResultDoesNotDependOnThreading) {
+    const RectangleLights lights = box_light();
+    PhotonParams params = restir::default_photon_params();
+    params.photon_count = 40'000u; // more than one batch
+    params.max_bounces = 3u;
+    params.seed = 5u;
+    const auto four_threads = [](std::uint32_t count, auto&& body) {
+        std::vector<std::thread> threads;
+        for (std::uint32_t t = 0; t < 4u; ++t)
+            threads.emplace_back([&, t] {
+                for (std::uint32_t i = t; i < count; i += 4u)
+                    body(i);
+            });
+        for (std::thread& thread : threads)
+            thread.join();
+    };
+    const std::vector<Vpl> one = restir::shoot_photons(lights, ClosedBox{}, Lambertian{}, params);
+    const std::vector<Vpl> many =
+        restir::shoot_photons(lights, ClosedBox{}, Lambertian{}, params, four_threads);
+    ASSERT_EQ(one.size(), many.size());
+    for (std::size_t i = 0; i < one.size(); ++i) {
+        ASSERT_EQ(one[i].position, many[i].position) << i;
+        ASSERT_EQ(one[i].flux, many[i].flux) << i;
+    }
+    params.seed = 6u;
+    const std::vector<Vpl> other = restir::shoot_photons(lights, ClosedBox{}, Lambertian{}, params);
+    EXPECT_NE(other.front().position, one.front().position);
+}
+
+TEST(PhotonShooter, BadInputGivesAnEmptySetAndNeverNaN) {
+    PhotonParams params = restir::default_photon_params();
+    params.photon_count = 1000u;
+    EXPECT_TRUE(restir::shoot_photons(RectangleLights{}, ClosedBox{}, Lambertian{}, params).empty())
+        << "no emitters";
+    RectangleLights dark = box_light();
+    dark.rectangles[0].radiance = glm::vec3(0.0f);
+    EXPECT_TRUE(restir::shoot_photons(dark, ClosedBox{}, Lambertian{}, params).empty())
+        << "zero flux";
+    RectangleLights broken = box_light();
+    broken.rectangles[0].radiance = glm::vec3(std::nanf(""));
+    EXPECT_TRUE(restir::shoot_photons(broken, ClosedBox{}, Lambertian{}, params).empty())
+        << "NaN radiance";
+    PhotonParams no_budget = params;
+    no_budget.photon_count = 0u;
+    EXPECT_TRUE(restir::shoot_photons(box_light(), ClosedBox{}, Lambertian{}, no_budget).empty());
+    PhotonParams no_points = params;
+    no_points.points_per_emitter = 0u;
+    EXPECT_TRUE(restir::shoot_photons(box_light(), ClosedBox{}, Lambertian{}, no_points).empty());
+    // Photons that leave the scene deposit nothing; black surfaces deposit nothing.
+    EXPECT_TRUE(restir::shoot_photons(box_light(), FloorOnly{0.01f}, Lambertian{}, params).empty());
+    EXPECT_TRUE(restir::shoot_photons(box_light(), ClosedBox{}, Lambertian{glm::vec3(0.0f)}, params)
+                    .empty());
+    for (const Vpl& v : restir::shoot_photons(box_light(), ClosedBox{}, Lambertian{}, params))
+        for (int c = 0; c < 3; ++c) {
+            ASSERT_TRUE(std::isfinite(v.flux[c]));
+            ASSERT_TRUE(std::isfinite(v.position[c]));
+            ASSERT_TRUE(std::isfinite(v.normal[c]));
+        }
+}
+
+TEST(EmitterPoints, ShareTheEmittedFluxAndStratifyTheEmitter) {
+    const RectangleLights lights = box_light();
+    const std::vector<restir::EmitterPoint> points = restir::make_emitter_points(lights, 16u, 3u);
+    ASSERT_EQ(points.size(), 16u);
+    glm::dvec3 sum(0.0);
+    int quadrant[4] = {0, 0, 0, 0};
+    for (const restir::EmitterPoint& p : points) {
+        sum += glm::dvec3(p.flux);
+        EXPECT_EQ(p.normal, glm::vec3(0.0f, -1.0f, 0.0f));
+        ++quadrant[(p.position.x < 0.0f ? 0 : 1) + (p.position.z < 0.0f ? 0 : 2)];
+    }
+    for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(sum[c], static_cast<double>(lights.flux()[c]),
+                    1e-5 * static_cast<double>(lights.flux()[c]));
+    for (int q : quadrant)
+        EXPECT_EQ(q, 4) << "a 4 x 4 grid puts 4 points in each quadrant";
+}
+
+TEST(EmissionDirections, CosineAndSphereDensities) {
+    // Mean cosine about the normal: 2/3 for the cosine density, 0 for the sphere.
+    restir::Pcg32 rng = restir::make_pixel_rng(0u, 0u, 0u, 9u);
+    const glm::vec3 normal = glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f));
+    RunningStats cosine, sphere;
+    for (int i = 0; i < 200'000; ++i) {
+        const float u0 = next_float(rng), u1 = next_float(rng);
+        const glm::vec3 d = restir::sample_emission_direction(normal, u0, u1);
+        ASSERT_NEAR(glm::length(d), 1.0f, 1e-5f);
+        ASSERT_GE(glm::dot(d, normal), -1e-6f);
+        cosine.add(glm::dot(d, normal));
+        sphere.add(glm::dot(restir::sample_emission_direction(glm::vec3(0.0f), u0, u1), normal));
+    }
+    EXPECT_TRUE(restir::test::agrees_with(cosine, 2.0 / 3.0));
+    EXPECT_TRUE(restir::test::agrees_with(sphere, 0.0));
+}
+
+} // namespace
