@@ -22,6 +22,9 @@ static_assert(restir::LightSampler<stub::LightSampler>);
 static_assert(restir::RayQuery<stub::RayQuery>);
 static_assert(restir::VisibilityFunction<stub::Visibility, stub::Sample, stub::Surface>);
 static_assert(restir::Reprojection<stub::Reprojection>);
+static_assert(restir::ClosestHitQuery<stub::ClosestHit>);
+static_assert(restir::ScatterFunction<stub::Scatter, stub::Surface, stub::Rng>);
+static_assert(restir::LightSet<restir::UnifiedLightSet<stub::LightSet>>);
 
 } // namespace
 
@@ -81,6 +84,21 @@ struct ReprojectionToIndex {
     int operator()(restir::PixelCoord) const;
 };
 static_assert(!restir::Reprojection<ReprojectionToIndex>, "must return a PixelCoord");
+
+struct HitWithoutNormal {};
+glm::vec3 surface_position(const HitWithoutNormal&);
+float surface_depth(const HitWithoutNormal&);
+bool is_valid_surface(const HitWithoutNormal&);
+struct QueryReturningIncompleteHits {
+    HitWithoutNormal closest_hit(glm::vec3, glm::vec3) const;
+};
+static_assert(!restir::ClosestHitQuery<QueryReturningIncompleteHits>, "hits must be Surfaces");
+static_assert(!restir::ClosestHitQuery<stub::RayQuery>, "occluded() is not closest_hit()");
+
+struct ScatterWithoutRng {
+    restir::Scattering operator()(const stub::Surface&, glm::vec3) const;
+};
+static_assert(!restir::ScatterFunction<ScatterWithoutRng, stub::Surface, stub::Rng>);
 
 } // namespace rejected
 
@@ -153,6 +171,25 @@ TEST(Conformance, ReusePassesInstantiateWithStubTypes) {
     const stub::RayQuery query;
     const restir::LightVisibility<stub::LightSet, stub::RayQuery> light_visibility{&lights, &query};
     EXPECT_TRUE(light_visibility(restir::LightSampleRef{}, surfaces[0]));
+}
+
+TEST(Conformance, PhotonShooterInstantiatesWithStubTypes) {
+    const stub::LightSet lights;
+    restir::PhotonParams params = restir::default_photon_params();
+    params.photon_count = 8u;
+    params.max_bounces = 2u;
+    const std::vector<restir::Vpl> vpls =
+        restir::shoot_photons(lights, stub::ClosestHit{}, stub::Scatter{}, params);
+    EXPECT_EQ(vpls.size(), 8u); // one deposit each, then absorbed
+    const restir::UnifiedLightSet<stub::LightSet> unified{&lights, vpls.data(),
+                                                          static_cast<std::uint32_t>(vpls.size())};
+    EXPECT_EQ(unified.light_count(), lights.light_count() + 8u);
+    EXPECT_EQ(restir::unified_light_powers(unified).size(), unified.light_count());
+    const restir::Falloff falloff{};
+    const glm::vec3 e =
+        restir::unshadowed_irradiance(unified.sample_point(0u, glm::vec2(0.5f)), glm::vec3(0.0f),
+                                      glm::vec3(0.0f, 1.0f, 0.0f), falloff);
+    EXPECT_GE(e.x, 0.0f);
 }
 
 } // namespace

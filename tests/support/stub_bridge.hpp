@@ -7,6 +7,7 @@
 #include <restir/core/discrete_sample.hpp>
 #include <restir/light/light_sample.hpp>
 #include <restir/reuse/image_view.hpp>
+#include <restir/vpl/photon_shooter.hpp>
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
@@ -74,6 +75,19 @@ struct Visibility {
 /// Every pixel was at the same place in the previous frame.
 struct Reprojection {
     restir::PixelCoord operator()(restir::PixelCoord p) const { return p; }
+};
+
+/// Every ray hits the same surface.
+struct ClosestHit {
+    Surface closest_hit(glm::vec3, glm::vec3) const { return Surface{}; }
+};
+
+/// Absorbs every photon after depositing it.
+struct Scatter {
+    template <class AnyRng>
+    restir::Scattering operator()(const Surface&, glm::vec3, AnyRng&) const {
+        return {{0.0f, 1.0f, 0.0f}, glm::vec3(0.0f), glm::vec3(0.5f), true, false};
+    }
 };
 
 /// Nothing ever blocks.

@@ -19,6 +19,8 @@
 #include <cmath>
 #include <concepts>
 #include <cstdint>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace restir {
@@ -44,11 +46,17 @@ struct Scattering {
 
 /// The scatter hook. Required expression:
 ///   `scatter(hit, incoming, rng)` -> Scattering, where `incoming` is the photon's unit
-///   direction of travel and `rng` a UniformRng for sampling the continuation.
+///   direction of travel and `rng` a UniformRng for sampling the continuation (the shooter
+///   passes its `Pcg32`; a template over the generator works everywhere).
 template <class F, class Hit, class Rng>
 concept ScatterFunction = requires(const F& scatter, const Hit& hit, glm::vec3 incoming, Rng& rng) {
     { scatter(hit, incoming, rng) } -> std::convertible_to<Scattering>;
 };
+
+/// The hit type a `ClosestHitQuery` returns.
+template <class Query>
+using HitOf = std::remove_cvref_t<decltype(std::declval<const Query&>().closest_hit(
+    std::declval<glm::vec3>(), std::declval<glm::vec3>()))>;
 
 /// Settings of a photon pass.
 struct PhotonParams {
@@ -100,7 +108,7 @@ RESTIR_HOST_DEVICE inline glm::vec3 sample_emission_direction(glm::vec3 normal, 
 /// (reflected flux); it continues with probability q = min(1, max channel of the BSDF weight)
 /// and, if it does, carries Phi * weight / q. Every step is unbiased, so the expected VPL flux
 /// equals the flux reflected by diffuse surfaces up to `max_bounces` bounces.
-template <ClosestHitQuery Query, class Scatter>
+template <ClosestHitQuery Query, ScatterFunction<HitOf<Query>, Pcg32> Scatter>
 RESTIR_HOST_DEVICE std::uint32_t
 trace_photon(std::uint32_t photon_index, const PhotonSource& source, const Query& query,
              const Scatter& scatter, const PhotonParams& params, Vpl* out) {
@@ -160,7 +168,8 @@ struct SequentialFor {
 /// ordered by photon and bounce, so the result is the same whatever `parallel_for` does
 /// (`parallel_for(count, body)` must call `body(i)` once for every i in [0, count), on any
 /// threads). No emitters, emitters without flux, or a budget of 0 give an empty set.
-template <LightSet Lights, ClosestHitQuery Query, class Scatter, class ParallelFor = SequentialFor>
+template <LightSet Lights, ClosestHitQuery Query, ScatterFunction<HitOf<Query>, Pcg32> Scatter,
+          class ParallelFor = SequentialFor>
 std::vector<Vpl> shoot_photons(const Lights& lights, const Query& query, const Scatter& scatter,
                                const PhotonParams& params, ParallelFor&& parallel_for = {}) {
     std::vector<Vpl> vpls;

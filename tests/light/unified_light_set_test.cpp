@@ -1,0 +1,102 @@
+// Emitters and VPLs in one light set: ids, powers, and RIS over both at once.
+#include <restir/restir.hpp>
+
+#include "support/statistics.hpp"
+#include "vpl/box_scene.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace {
+
+using restir::test::RectangleLights;
+using Unified = restir::UnifiedLightSet<RectangleLights>;
+
+static_assert(restir::LightSet<Unified>);
+
+RectangleLights two_rectangles() {
+    return {{restir::test::ceiling_light(0.9f, 0.4f, glm::vec3(2.0f, 1.0f, 0.5f)),
+             {{0.3f, 0.7f, -0.6f}, {0.2f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.3f}, glm::vec3(0.5f)}}};
+}
+
+std::vector<restir::Vpl> some_vpls() {
+    restir::PhotonParams params = restir::default_photon_params();
+    params.photon_count = 300u;
+    params.max_bounces = 3u;
+    return restir::shoot_photons(two_rectangles(), restir::test::ClosedBox{},
+                                 restir::test::Lambertian{glm::vec3(0.6f, 0.5f, 0.4f)}, params);
+}
+
+float channel_sum(glm::vec3 v) { return v.x + v.y + v.z; }
+
+TEST(UnifiedLightSet, EmittersFirstThenVpls) {
+    const RectangleLights emitters = two_rectangles();
+    const std::vector<restir::Vpl> vpls = some_vpls();
+    ASSERT_FALSE(vpls.empty());
+    const Unified lights{&emitters, vpls.data(), static_cast<std::uint32_t>(vpls.size())};
+    EXPECT_EQ(lights.light_count(), 2u + vpls.size());
+    EXPECT_FALSE(lights.is_vpl(1u));
+    EXPECT_TRUE(lights.is_vpl(2u));
+    const restir::LightSample v = lights.sample_point(2u + 5u, glm::vec2(0.3f));
+    EXPECT_TRUE(v.is_delta);
+    EXPECT_EQ(v.position, vpls[5].position);
+    const restir::LightSample e = lights.sample_point(1u, glm::vec2(0.5f));
+    EXPECT_FALSE(e.is_delta);
+    EXPECT_FLOAT_EQ(e.area_pdf, 1.0f / (0.2f * 0.3f));
+
+    const std::vector<float> powers = restir::unified_light_powers(lights);
+    EXPECT_FLOAT_EQ(powers[0], channel_sum(emitters.rectangles[0].radiance) * 3.14159265f * 0.16f);
+    EXPECT_FLOAT_EQ(powers[1], 1.5f * 3.14159265f * 0.06f);
+    for (std::size_t i = 0; i < vpls.size(); ++i)
+        EXPECT_NEAR(powers[2 + i], channel_sum(vpls[i].flux), 1e-6f * channel_sum(vpls[i].flux));
+}
+
+// RIS with candidates from one power-proportional distribution over emitters and VPLs
+// estimates the total unshadowed irradiance, direct (emitters) plus indirect (VPLs).
+TEST(UnifiedLightSet, RisOverEmittersAndVplsIsUnbiased) {
+    const RectangleLights emitters = two_rectangles();
+    const std::vector<restir::Vpl> vpls = some_vpls();
+    const Unified lights{&emitters, vpls.data(), static_cast<std::uint32_t>(vpls.size())};
+    const restir::AliasTable table(restir::unified_light_powers(lights));
+    const restir::PowerLightSampler sampler{table.view()};
+    const glm::vec3 receiver(0.1f, -0.6f, 0.2f);
+    const glm::vec3 normal(0.0f, 1.0f, 0.0f);
+    const restir::Falloff falloff{restir::Attenuation::yuksel, 0.05f};
+    const auto irradiance = [&](const restir::LightSampleRef& ref) {
+        return channel_sum(restir::unshadowed_irradiance(lights.sample_point(ref.light_id, ref.uv),
+                                                         receiver, normal, falloff));
+    };
+
+    // Truth: VPLs exactly, emitters by a 1000 x 1000 midpoint rule in uv.
+    double truth = 0.0;
+    for (std::uint32_t id = 2u; id < lights.light_count(); ++id)
+        truth += static_cast<double>(irradiance({id, glm::vec2(0.5f)}));
+    constexpr int grid = 1000;
+    for (std::uint32_t id = 0; id < 2u; ++id) {
+        double sum = 0.0;
+        for (int i = 0; i < grid; ++i)
+            for (int j = 0; j < grid; ++j)
+                sum += static_cast<double>(
+                    irradiance({id, glm::vec2((static_cast<float>(i) + 0.5f) / grid,
+                                              (static_cast<float>(j) + 0.5f) / grid)}));
+        truth += sum / (grid * grid);
+    }
+
+    restir::test::RunningStats estimate;
+    for (std::uint32_t trial = 0; trial < 40'000u; ++trial) {
+        restir::Pcg32 rng = restir::make_pixel_rng(trial, 0u, 0u, 11u);
+        const auto draw = [&](restir::Pcg32& g) {
+            const restir::DiscreteSample c = restir::sample_light(sampler, g);
+            const float u = next_float(g);
+            const float v = next_float(g);
+            return restir::SourceSample<restir::LightSampleRef>{{c.index, {u, v}}, c.pmf};
+        };
+        const auto r = restir::resample_ris(rng, 8u, draw, irradiance);
+        estimate.add(static_cast<double>(irradiance(r.sample) * r.contribution_weight));
+    }
+    EXPECT_TRUE(restir::test::agrees_with(estimate, truth));
+}
+
+} // namespace
