@@ -60,7 +60,66 @@ struct StaticCamera {
     RESTIR_HOST_DEVICE restir::PixelCoord operator()(restir::PixelCoord p) const { return p; }
 };
 
+// Photon tracing against one plane, with a Lambertian hook.
+struct PlaneHit {
+    glm::vec3 position;
+    bool found;
+};
+RESTIR_HOST_DEVICE glm::vec3 surface_position(const PlaneHit& h) { return h.position; }
+RESTIR_HOST_DEVICE glm::vec3 surface_normal(const PlaneHit&) { return {0.0f, 1.0f, 0.0f}; }
+// Required by the Surface concept; the shooter never asks for depth.
+[[maybe_unused]] RESTIR_HOST_DEVICE float surface_depth(const PlaneHit&) { return 1.0f; }
+RESTIR_HOST_DEVICE bool is_valid_surface(const PlaneHit& h) { return h.found; }
+
+struct GroundPlane {
+    RESTIR_HOST_DEVICE PlaneHit closest_hit(glm::vec3 origin, glm::vec3 direction) const {
+        const float t = -origin.y / direction.y;
+        return {origin + t * direction, t > 0.0f};
+    }
+};
+
+struct Grey {
+    template <class Rng>
+    RESTIR_HOST_DEVICE restir::Scattering operator()(const PlaneHit& hit, glm::vec3,
+                                                     Rng& rng) const {
+        const float u0 = next_float(rng);
+        const float u1 = next_float(rng);
+        return {restir::sample_emission_direction(surface_normal(hit), u0, u1), glm::vec3(0.5f),
+                glm::vec3(0.5f), true, false};
+    }
+};
+
+struct PointEmitters {
+    const glm::vec3* positions;
+    std::uint32_t count;
+    RESTIR_HOST_DEVICE std::uint32_t light_count() const { return count; }
+    RESTIR_HOST_DEVICE restir::LightSample sample_point(std::uint32_t id, glm::vec2) const {
+        restir::LightSample s;
+        s.position = positions[id];
+        s.normal = glm::vec3(0.0f);
+        s.radiance = glm::vec3(1.0f);
+        s.area_pdf = 1.0f;
+        s.is_delta = true;
+        return s;
+    }
+};
+
 } // namespace
+
+__global__ void photon_kernel(restir::PhotonSource source, restir::PhotonParams params,
+                              restir::Vpl* out, std::uint32_t* counts, const glm::vec3* emitters,
+                              std::uint32_t emitter_count, float* irradiance) {
+    const auto photon = static_cast<std::uint32_t>(blockIdx.x * blockDim.x + threadIdx.x);
+    counts[photon] = restir::trace_photon(photon, source, GroundPlane{}, Grey{}, params,
+                                          out + photon * params.max_bounces);
+    const PointEmitters lights{emitters, emitter_count};
+    const restir::UnifiedLightSet<PointEmitters> unified{&lights, out, counts[photon]};
+    const restir::Falloff falloff{};
+    irradiance[photon] =
+        restir::unshadowed_irradiance(unified.sample_point(0u, glm::vec2(0.5f)), glm::vec3(0.0f),
+                                      glm::vec3(0.0f, 1.0f, 0.0f), falloff)
+            .x;
+}
 
 __global__ void reuse_kernel(const glm::vec3* light_positions, const GBufferTexel* texels,
                              const restir::Reservoir<restir::LightSampleRef>* previous,
