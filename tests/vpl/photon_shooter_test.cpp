@@ -70,7 +70,7 @@ TEST(PhotonShooter, AllBouncesDepositTheGeometricSeriesOfReflectedFlux) {
             channel[c].add(sum[c]);
     }
     for (int c = 0; c < 3; ++c) {
-        const double a = albedo[c];
+        const auto a = static_cast<double>(albedo[c]);
         const double expected = static_cast<double>(lights.flux()[c]) * a *
                                 (1.0 - std::pow(a, params.max_bounces)) / (1.0 - a);
         EXPECT_TRUE(restir::test::agrees_with(channel[c], expected)) << "channel " << c;
@@ -106,7 +106,7 @@ TEST(PhotonShooter, VplIndirectIrradianceMatchesDirectIntegration) {
     // Direct integration: y uniform on the floor, e uniform on the emitter.
     const restir::test::Rectangle& emitter = lights.rectangles[0];
     const double floor_area = 4.0 * static_cast<double>(floor_half * floor_half);
-    const double emitter_area = emitter.area();
+    const auto emitter_area = static_cast<double>(emitter.area());
     restir::Pcg32 rng = restir::make_pixel_rng(0u, 0u, 0u, 77u);
     RunningStats direct;
     for (int i = 0; i < 2'000'000; ++i) {
@@ -222,8 +222,9 @@ TEST(EmissionDirections, CosineAndSphereDensities) {
         const glm::vec3 d = restir::sample_emission_direction(normal, u0, u1);
         ASSERT_NEAR(glm::length(d), 1.0f, 1e-5f);
         ASSERT_GE(glm::dot(d, normal), -1e-6f);
-        cosine.add(glm::dot(d, normal));
-        sphere.add(glm::dot(restir::sample_emission_direction(glm::vec3(0.0f), u0, u1), normal));
+        cosine.add(static_cast<double>(glm::dot(d, normal)));
+        sphere.add(static_cast<double>(
+            glm::dot(restir::sample_emission_direction(glm::vec3(0.0f), u0, u1), normal)));
     }
     EXPECT_TRUE(restir::test::agrees_with(cosine, 2.0 / 3.0));
     EXPECT_TRUE(restir::test::agrees_with(sphere, 0.0));
