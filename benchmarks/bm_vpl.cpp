@@ -194,13 +194,8 @@ void BM_TracePhoton(benchmark::State& state) {
     const ClosedBox query;
     const Lambertian scatter;
     const restir::PhotonParams params = photon_params();
-    const std::vector<restir::EmitterPoint> points =
-        restir::make_emitter_points(lights, params.points_per_emitter, params.seed);
-    std::vector<float> power(points.size());
-    for (std::size_t i = 0; i < points.size(); ++i)
-        power[i] = points[i].flux.x + points[i].flux.y + points[i].flux.z;
-    const restir::AliasTable table(power);
-    const restir::PhotonSource source{points.data(), table.view()};
+    const restir::PhotonEmitters emitters(lights, params.points_per_emitter, params.seed);
+    const restir::PhotonSource source = emitters.source();
     std::array<restir::Vpl, kMaxBounces> scratch{};
     std::uint32_t photon = 0u;
     for (auto _ : state) {

@@ -96,8 +96,8 @@ RESTIR_HOST_DEVICE inline glm::vec3 sample_emission_direction(glm::vec3 normal, 
     const float b = normal.x * normal.y * a;
     const glm::vec3 tangent{1.0f + sign * normal.x * normal.x * a, sign * b, -sign * normal.x};
     const glm::vec3 bitangent{b, sign + normal.y * normal.y * a, -normal.y};
-    return glm::normalize(tangent * (r * std::cos(phi)) + bitangent * (r * std::sin(phi)) +
-                          normal * z);
+    // The frame is orthonormal, so the result is unit length up to rounding.
+    return tangent * (r * std::cos(phi)) + bitangent * (r * std::sin(phi)) + normal * z;
 }
 
 /// Traces photon `photon_index` of `params.photon_count` and writes the VPLs it deposits to
@@ -154,6 +154,37 @@ trace_photon(std::uint32_t photon_index, const PhotonSource& source, const Query
     return written;
 }
 
+/// What photons leave from, built on the host: the emitter points of a light set and an alias
+/// table over their flux (summed over the channels). `source()` is the view `trace_photon`
+/// takes; to shoot on a GPU, copy `points()` and `table().entries()` to device memory and
+/// build a `PhotonSource` over the copies.
+class PhotonEmitters {
+public:
+    PhotonEmitters() = default;
+
+    /// `make_emitter_points(lights, points_per_emitter, seed)` and the table over them. Empty
+    /// when no emitter has positive finite flux.
+    template <LightSet Lights>
+    PhotonEmitters(const Lights& lights, std::uint32_t points_per_emitter, std::uint64_t seed)
+        : points_(make_emitter_points(lights, points_per_emitter, seed)) {
+        if (points_.empty())
+            return;
+        std::vector<float> power(points_.size());
+        for (std::size_t i = 0; i < points_.size(); ++i)
+            power[i] = points_[i].flux.x + points_[i].flux.y + points_[i].flux.z;
+        table_.build(power);
+    }
+
+    bool empty() const noexcept { return points_.empty(); }
+    const std::vector<EmitterPoint>& points() const noexcept { return points_; }
+    const AliasTable& table() const noexcept { return table_; }
+    PhotonSource source() const noexcept { return {points_.data(), table_.view()}; }
+
+private:
+    std::vector<EmitterPoint> points_;
+    AliasTable table_;
+};
+
 /// Calls `body(i)` for i in [0, count) on the calling thread; pass your own (a thread pool's
 /// parallel for) to `shoot_photons` to trace in parallel.
 struct SequentialFor {
@@ -175,15 +206,11 @@ std::vector<Vpl> shoot_photons(const Lights& lights, const Query& query, const S
     std::vector<Vpl> vpls;
     if (params.photon_count == 0u || params.max_bounces == 0u)
         return vpls;
-    const std::vector<EmitterPoint> points =
-        make_emitter_points(lights, params.points_per_emitter, params.seed);
-    if (points.empty())
+    const PhotonEmitters emitters(lights, params.points_per_emitter, params.seed);
+    if (emitters.empty())
         return vpls;
-    std::vector<float> power(points.size());
-    for (std::size_t i = 0; i < points.size(); ++i)
-        power[i] = points[i].flux.x + points[i].flux.y + points[i].flux.z;
-    const AliasTable table(power);
-    const PhotonSource source{points.data(), table.view()};
+    const PhotonSource source = emitters.source();
+    vpls.reserve(params.photon_count); // at least one VPL per photon in a closed scene
 
     // Batches bound the scratch memory; each photon owns max_bounces slots in its batch.
     constexpr std::uint32_t batch_size = 1u << 14u;
