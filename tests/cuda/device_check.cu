@@ -109,6 +109,57 @@ __global__ void shade_kernel(const float* light_x, const restir::AliasEntry* ent
         out[pixel] = shade(pixel, light_x, entries, count);
 }
 
+// Photons: one square emitter over a floor of albedo 0.6, traced on the GPU and the CPU.
+struct FloorHit {
+    glm::vec3 position;
+    bool found;
+};
+RESTIR_HOST_DEVICE glm::vec3 surface_position(const FloorHit& h) { return h.position; }
+RESTIR_HOST_DEVICE glm::vec3 surface_normal(const FloorHit&) { return {0.0f, 1.0f, 0.0f}; }
+[[maybe_unused]] RESTIR_HOST_DEVICE float surface_depth(const FloorHit&) { return 1.0f; }
+RESTIR_HOST_DEVICE bool is_valid_surface(const FloorHit& h) { return h.found; }
+
+struct Floor {
+    RESTIR_HOST_DEVICE FloorHit closest_hit(glm::vec3 origin, glm::vec3 direction) const {
+        const float t = -origin.y / direction.y;
+        const glm::vec3 p = origin + t * direction;
+        return {p, t > 0.0f && p.x * p.x < 4.0f && p.z * p.z < 4.0f};
+    }
+};
+
+struct Matte {
+    template <class Rng>
+    RESTIR_HOST_DEVICE restir::Scattering operator()(const FloorHit& hit, glm::vec3,
+                                                     Rng& rng) const {
+        const float u0 = next_float(rng);
+        const float u1 = next_float(rng);
+        return {restir::sample_emission_direction(surface_normal(hit), u0, u1), glm::vec3(0.6f),
+                glm::vec3(0.6f), true, false};
+    }
+};
+
+struct SquareLight {
+    RESTIR_HOST_DEVICE std::uint32_t light_count() const { return 1u; }
+    RESTIR_HOST_DEVICE restir::LightSample sample_point(std::uint32_t, glm::vec2 uv) const {
+        restir::LightSample s;
+        s.position = {uv.x - 0.5f, 1.0f, uv.y - 0.5f};
+        s.normal = {0.0f, -1.0f, 0.0f};
+        s.radiance = glm::vec3(1.0f);
+        s.area_pdf = 1.0f;
+        return s;
+    }
+};
+
+constexpr std::uint32_t photon_bounces = 3;
+
+__global__ void photon_kernel(restir::PhotonSource source, restir::PhotonParams params,
+                              restir::Vpl* out, std::uint32_t* counts) {
+    const std::uint32_t photon = blockIdx.x * blockDim.x + threadIdx.x;
+    if (photon < params.photon_count)
+        counts[photon] = restir::trace_photon(photon, source, Floor{}, Matte{}, params,
+                                              out + photon * photon_bounces);
+}
+
 // Compares GPU results with the same function run on the CPU; returns the mismatch count.
 template <class CpuResult>
 std::uint32_t compare(const char* name, const std::vector<PixelResult>& gpu, CpuResult&& cpu_at) {
@@ -211,5 +262,59 @@ int main() {
                 return reuse_pixel(p, light_x.data(), reservoirs.data(), points.data(), pairwise);
             });
     }
+
+    // Photons: GPU VPLs against shoot_photons on the CPU. Only sin, cos and sqrt may differ
+    // in their last bits between the two, so positions and fluxes agree to 1e-4.
+    restir::PhotonParams params = restir::default_photon_params();
+    params.photon_count = 1u << 16u;
+    params.max_bounces = photon_bounces;
+    params.seed = 3u;
+    const SquareLight square;
+    const std::vector<restir::Vpl> cpu_vpls =
+        restir::shoot_photons(square, Floor{}, Matte{}, params);
+    const restir::PhotonEmitters emitters(square, params.points_per_emitter, params.seed);
+    const std::vector<restir::AliasEntry> photon_entries(emitters.table().entries().begin(),
+                                                         emitters.table().entries().end());
+    const restir::EmitterPoint* device_emitter_points = upload(emitters.points());
+    const restir::AliasEntry* device_photon_entries = upload(photon_entries);
+    restir::Vpl* device_vpls = nullptr;
+    std::uint32_t* device_counts = nullptr;
+    cudaMalloc(&device_vpls, params.photon_count * photon_bounces * sizeof(restir::Vpl));
+    cudaMalloc(&device_counts, params.photon_count * sizeof(std::uint32_t));
+    const restir::PhotonSource device_source{device_emitter_points,
+                                             {device_photon_entries, emitters.table().size()}};
+    photon_kernel<<<params.photon_count / 256, 256>>>(device_source, params, device_vpls,
+                                                      device_counts);
+    std::vector<restir::Vpl> slots(params.photon_count * photon_bounces);
+    std::vector<std::uint32_t> counts(params.photon_count);
+    if (cudaMemcpy(slots.data(), device_vpls, slots.size() * sizeof(restir::Vpl),
+                   cudaMemcpyDeviceToHost) != cudaSuccess ||
+        cudaMemcpy(counts.data(), device_counts, counts.size() * sizeof(std::uint32_t),
+                   cudaMemcpyDeviceToHost) != cudaSuccess) {
+        std::printf("CUDA error: %s\n", cudaGetErrorString(cudaGetLastError()));
+        return 1;
+    }
+    std::vector<restir::Vpl> gpu_vpls;
+    for (std::uint32_t p = 0; p < params.photon_count; ++p)
+        for (std::uint32_t b = 0; b < counts[p]; ++b)
+            gpu_vpls.push_back(slots[p * photon_bounces + b]);
+    std::uint32_t vpl_mismatches = cpu_vpls.size() == gpu_vpls.size() ? 0u : 1u;
+    double max_difference = 0.0;
+    for (std::size_t i = 0; i < cpu_vpls.size() && i < gpu_vpls.size(); ++i)
+        for (int c = 0; c < 3; ++c) {
+            const double dp = std::abs(static_cast<double>(cpu_vpls[i].position[c]) -
+                                       static_cast<double>(gpu_vpls[i].position[c]));
+            const double df = std::abs(static_cast<double>(cpu_vpls[i].flux[c]) -
+                                       static_cast<double>(gpu_vpls[i].flux[c])) /
+                              static_cast<double>(cpu_vpls[i].flux[c]);
+            max_difference = std::fmax(max_difference, std::fmax(dp, df));
+            if (dp > 1e-4 || df > 1e-4)
+                ++vpl_mismatches;
+        }
+    std::printf("photons: %u photons, %zu VPLs on the CPU, %zu on the GPU, %u mismatches, max "
+                "difference %.3g\n",
+                params.photon_count, cpu_vpls.size(), gpu_vpls.size(), vpl_mismatches,
+                max_difference);
+    mismatches += vpl_mismatches;
     return mismatches == 0 ? 0 : 1;
 }
