@@ -1,12 +1,16 @@
 #!/usr/bin/env bash
-# Builds the minimal example (Release) and renders out/minimal.png.
+# Builds the Embree example renderer (Release) and renders the default scene: the Cornell box
+# with ReSTIR and VPL global illumination, written to out/cornell.png. Extra arguments go to
+# restir-render (see build/render/examples/pathtracer/restir-render --help).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
-bash scripts/install-deps.sh cmake make g++ libglm-dev libstb-dev
+bash scripts/install-deps.sh cmake make g++ libglm-dev libstb-dev libembree-dev libtbb-dev \
+  libtinyobjloader-dev libtinyexr-dev libcli11-dev
 
 cmake -S . -B build/render -DCMAKE_BUILD_TYPE=Release -DRESTIR_BUILD_TESTS=OFF \
   -DRESTIR_BUILD_BENCHMARKS=OFF >/dev/null
-cmake --build build/render --target restir-minimal -j "$(nproc)"
-build/render/examples/minimal/restir-minimal out/minimal.png
-echo "image: $PWD/out/minimal.png"
+cmake --build build/render --target restir-render -j "$(nproc)"
+build/render/examples/pathtracer/restir-render --scene cornell --method restir --gi vpl \
+  --frames 16 --out out/cornell.png "$@"
+echo "image: $PWD/out/cornell.png"

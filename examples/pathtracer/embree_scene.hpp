@@ -1,0 +1,51 @@
+// The Embree 3 adapter: the scene's triangles in an Embree BVH, answering the library's
+// ray-query concepts (restir::RayQuery: occluded; restir::ClosestHitQuery: closest_hit).
+#pragma once
+
+#include "scene.hpp"
+
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <vector>
+
+struct RTCDeviceTy;
+struct RTCSceneTy;
+
+namespace pt {
+
+/// The nearest surface along a ray. Satisfies restir::Surface through the free functions below.
+struct Hit {
+    glm::vec3 position{0.0f};
+    glm::vec3 normal{0.0f, 1.0f, 0.0f}; ///< Unit geometric normal, as the triangle is wound.
+    float distance = 0.0f;
+    std::uint32_t triangle = 0u;
+    bool found = false;
+};
+inline glm::vec3 surface_position(const Hit& h) { return h.position; }
+inline glm::vec3 surface_normal(const Hit& h) { return h.normal; }
+inline float surface_depth(const Hit& h) { return h.distance; }
+inline bool is_valid_surface(const Hit& h) { return h.found; }
+
+/// Owns an Embree device and a committed scene. Thread-safe queries; not copyable.
+class EmbreeScene {
+public:
+    /// Builds the BVH of `scene`'s triangles. Throws SceneError when Embree fails.
+    explicit EmbreeScene(const Scene& scene);
+    ~EmbreeScene();
+    EmbreeScene(const EmbreeScene&) = delete;
+    EmbreeScene& operator=(const EmbreeScene&) = delete;
+
+    /// Nearest hit along origin + t * direction, t in (0, inf); `direction` need not be unit.
+    Hit closest_hit(glm::vec3 origin, glm::vec3 direction) const;
+
+    /// True when anything blocks the open segment (from, to). The caller offsets the ends.
+    bool occluded(glm::vec3 from, glm::vec3 to) const;
+
+private:
+    RTCDeviceTy* device_ = nullptr;
+    RTCSceneTy* scene_ = nullptr;
+    std::vector<glm::vec3> normals_; ///< Per triangle, from its winding.
+};
+
+} // namespace pt

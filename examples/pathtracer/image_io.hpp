@@ -1,0 +1,50 @@
+// Reading and writing images of the example renderer: linear HDR (OpenEXR through tinyexr,
+// PFM) and tone-mapped PNG (stb_image_write).
+#pragma once
+
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <stdexcept>
+#include <vector>
+
+namespace pt {
+
+/// Linear RGB, row-major, top row first.
+struct Image {
+    std::uint32_t width = 0;
+    std::uint32_t height = 0;
+    std::vector<glm::vec3> pixels;
+
+    Image() = default;
+    Image(std::uint32_t w, std::uint32_t h) : width(w), height(h), pixels(std::size_t{w} * h) {}
+    glm::vec3& at(std::uint32_t x, std::uint32_t y) { return pixels[x + std::size_t{y} * width]; }
+    const glm::vec3& at(std::uint32_t x, std::uint32_t y) const {
+        return pixels[x + std::size_t{y} * width];
+    }
+};
+
+/// An image that cannot be read or written; `what()` is a one-line message.
+struct ImageError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+/// Writes `image` in the format the extension names: .exr (linear, 32-bit float RGB), .pfm
+/// (linear), or .png (8-bit sRGB after multiplying by 2^exposure and clamping). Creates the
+/// parent directory if needed. Throws ImageError on an unknown extension or a failed write.
+void write_image(const std::filesystem::path& path, const Image& image, float exposure = 0.0f);
+
+/// Reads a linear .exr or .pfm image. Throws ImageError when the file is missing, malformed or
+/// of another format.
+Image read_image(const std::filesystem::path& path);
+
+/// Root-mean-square error over all pixels and channels; both images must be the same size
+/// (ImageError otherwise).
+double rmse(const Image& image, const Image& reference);
+
+/// The exposure (in stops) that maps the image's average luminance to 0.18, the usual
+/// middle grey; 0 for a black image.
+float auto_exposure(const Image& image);
+
+} // namespace pt

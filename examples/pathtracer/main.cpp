@@ -1,0 +1,246 @@
+// restir-render: the Embree example renderer. Renders a scene with uniform light sampling,
+// RIS, ReSTIR or a reference path tracer, with optional VPL or path-traced global
+// illumination, over several frames, and measures the error against a reference image.
+// `restir-render --help` lists every flag.
+#include "image_io.hpp"
+#include "renderer.hpp"
+#include "scene.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <optional>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+namespace {
+
+struct Options {
+    std::string scene = "cornell";
+    std::uint32_t lights = 1000;
+    std::vector<float> look_from, look_at;
+    std::optional<float> fov;
+    std::uint32_t frames = 16;
+    std::string out = "out/render.png";
+    std::optional<float> exposure;
+    std::string reference;
+    std::string csv;
+};
+
+[[noreturn]] void fail(const std::string& message) {
+    std::cerr << "restir-render: error: " << message << "\n";
+    std::exit(2);
+}
+
+void progress(std::uint32_t done, std::uint32_t total, double frame_ms) {
+    constexpr int width = 30;
+    const int filled = static_cast<int>(width * done / total);
+    std::fprintf(stderr, "\r[%s%s] frame %u/%u, %.1f ms", std::string(filled, '#').c_str(),
+                 std::string(width - filled, '.').c_str(), done, total, frame_ms);
+    if (done == total)
+        std::fputc('\n', stderr);
+    std::fflush(stderr);
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    pt::RenderSettings settings;
+    settings.width = 512;
+    settings.height = 512;
+    Options options;
+
+    CLI::App app{"restir-render: ReSTIR, RIS, uniform light sampling and VPL global illumination "
+                 "on Embree, with error measurement against a reference"};
+    app.option_defaults()->always_capture_default();
+    app.add_option("--scene", options.scene,
+                   "cornell (built in), many-lights (procedural, see --lights) or a Wavefront "
+                   "FILE.obj");
+    app.add_option("--lights", options.lights, "Emissive quads of the many-lights scene")
+        ->check(CLI::Range(1u, 10'000'000u));
+    const std::map<std::string, pt::Method> methods{{"uniform", pt::Method::uniform},
+                                                    {"ris", pt::Method::ris},
+                                                    {"restir", pt::Method::restir},
+                                                    {"reference", pt::Method::reference}};
+    app.add_option("--method", settings.method,
+                   "uniform: one uniformly chosen light per sample; ris: resampling from "
+                   "--candidates; restir: RIS + temporal + spatial reuse; reference: path "
+                   "tracer with next-event estimation and MIS")
+        ->transform(CLI::CheckedTransformer(methods, CLI::ignore_case).description(""))
+        ->default_str("restir");
+    const std::map<std::string, pt::GlobalIllumination> gis{{"none", pt::GlobalIllumination::none},
+                                                            {"vpl", pt::GlobalIllumination::vpl},
+                                                            {"path", pt::GlobalIllumination::path}};
+    app.add_option("--gi", settings.gi,
+                   "Indirect light: none, vpl (photon-mapped VPLs sampled with the emitters) or "
+                   "path (path-traced bounces)")
+        ->transform(CLI::CheckedTransformer(gis, CLI::ignore_case).description(""))
+        ->default_str("vpl");
+    app.add_option("--spp", settings.spp, "Samples per pixel per frame (restir: 1)")
+        ->check(CLI::Range(1u, 65536u));
+    app.add_option("--frames", options.frames, "Frames rendered and averaged")
+        ->check(CLI::Range(1u, 100000u));
+    app.add_option("--width", settings.width, "Image width")->check(CLI::Range(1u, 16384u));
+    app.add_option("--height", settings.height, "Image height")->check(CLI::Range(1u, 16384u));
+    app.add_option("--look-from", options.look_from, "Camera position x,y,z")
+        ->delimiter(',')
+        ->expected(3);
+    app.add_option("--look-at", options.look_at, "Point the camera looks at, x,y,z")
+        ->delimiter(',')
+        ->expected(3);
+    app.add_option("--fov", options.fov, "Vertical field of view in degrees")
+        ->check(CLI::Range(1.0f, 179.0f));
+    const std::map<std::string, pt::CameraMotion> motions{{"none", pt::CameraMotion::none},
+                                                          {"orbit", pt::CameraMotion::orbit}};
+    app.add_option("--camera-motion", settings.motion,
+                   "none, or orbit: the camera turns about the look-at point a little every "
+                   "frame, so temporal reuse goes through real reprojection")
+        ->transform(CLI::CheckedTransformer(motions, CLI::ignore_case).description(""))
+        ->default_str("none");
+    app.add_option("--seed", settings.seed, "Seed of every random number");
+    app.add_option("--threads", settings.threads, "Worker threads (0: all cores)");
+    app.add_option("--out", options.out, "Output image: .png (tone-mapped), .exr or .pfm (linear)");
+    app.add_option("--exposure", options.exposure,
+                   "PNG exposure in stops (default: automatic, average luminance to 0.18)");
+    app.add_option("--reference", options.reference,
+                   "Reference image (.exr or .pfm) for the RMSE after every frame");
+    app.add_option("--csv", options.csv,
+                   "CSV of frame, rmse, frame_ms, elapsed_ms and the phase timings");
+    // The library's parameters.
+    app.add_option("--candidates", settings.candidates, "RIS candidates per pixel (M)")
+        ->check(CLI::Range(1u, 4096u));
+    app.add_option("--neighbours", settings.neighbours, "Spatial reuse neighbours (k)")
+        ->check(CLI::Range(0u, restir::max_reuse_inputs - 1u));
+    app.add_option("--radius", settings.radius, "Spatial reuse radius in pixels")
+        ->check(CLI::Range(1.0f, 1000.0f));
+    app.add_option("--spatial-passes", settings.spatial_passes, "Spatial reuse passes")
+        ->check(CLI::Range(0u, 16u));
+    app.add_option("--history-cap", settings.history_cap,
+                   "Temporal history M cap, as a multiple of the current M (0: no cap)");
+    const std::map<std::string, restir::BiasCorrection> corrections{
+        {"none", restir::BiasCorrection::none},
+        {"one-over-z", restir::BiasCorrection::one_over_z},
+        {"balance-heuristic", restir::BiasCorrection::balance_heuristic},
+        {"pairwise", restir::BiasCorrection::pairwise}};
+    app.add_option("--bias-correction", settings.bias_correction,
+                   "Reuse weights: none (1/M, biased), one-over-z, balance-heuristic, pairwise")
+        ->transform(CLI::CheckedTransformer(corrections, CLI::ignore_case).description(""))
+        ->default_str("pairwise");
+    app.add_option("--visibility-reuse", settings.visibility_reuse,
+                   "Zero W of occluded samples before reuse (true/false)");
+    const std::map<std::string, pt::CandidateSource> sources{
+        {"power", pt::CandidateSource::power}, {"uniform", pt::CandidateSource::uniform}};
+    app.add_option("--source", settings.source,
+                   "Candidate distribution of ris/restir: power or uniform")
+        ->transform(CLI::CheckedTransformer(sources, CLI::ignore_case).description(""))
+        ->default_str("power");
+    app.add_option("--vpls", settings.vpls, "About this many VPLs (gi vpl)")
+        ->check(CLI::Range(0u, 100'000'000u));
+    app.add_option("--vpl-bounces", settings.vpl_bounces, "Photon bounce limit")
+        ->check(CLI::Range(1u, 64u));
+    app.add_option("--attenuation-radius", settings.attenuation_radius,
+                   "Yuksel attenuation radius of VPLs in scene units (0: 2 % of the scene size)")
+        ->check(CLI::Range(0.0f, 1e30f));
+    app.add_option("--max-depth", settings.max_depth, "Path length limit (reference, gi path)")
+        ->check(CLI::Range(1u, 1024u));
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp&) {
+        std::cout << app.help();
+        return 0;
+    } catch (const CLI::ParseError& e) {
+        fail(std::string(e.what()) + " (see --help)");
+    }
+    if (settings.method == pt::Method::restir && settings.spp != 1)
+        fail("restir renders one sample per pixel per frame: use --frames instead of --spp");
+    if (!options.reference.empty() && settings.motion != pt::CameraMotion::none)
+        fail("--reference needs a still camera (--camera-motion none)");
+
+    try {
+        pt::Scene scene;
+        if (options.scene == "cornell")
+            scene = pt::make_cornell_box();
+        else if (options.scene == "many-lights")
+            scene = pt::make_many_lights(options.lights, settings.seed);
+        else
+            scene = pt::load_obj(options.scene);
+
+        settings.camera = scene.camera ? *scene.camera : pt::frame_bounds(scene);
+        if (!options.look_from.empty())
+            settings.camera.look_from = {options.look_from[0], options.look_from[1],
+                                         options.look_from[2]};
+        if (!options.look_at.empty())
+            settings.camera.look_at = {options.look_at[0], options.look_at[1], options.look_at[2]};
+        if (options.fov)
+            settings.camera.fov_degrees = *options.fov;
+
+        std::optional<pt::Image> reference;
+        if (!options.reference.empty()) {
+            reference = pt::read_image(options.reference);
+            if (reference->width != settings.width || reference->height != settings.height)
+                fail("the reference " + options.reference + " is " +
+                     std::to_string(reference->width) + "x" + std::to_string(reference->height) +
+                     " but the image is " + std::to_string(settings.width) + "x" +
+                     std::to_string(settings.height));
+        }
+        std::ofstream csv;
+        if (!options.csv.empty()) {
+            csv.open(options.csv);
+            if (!csv)
+                fail("cannot write " + options.csv);
+            csv << "frame,rmse,frame_ms,elapsed_ms,primary_ms,photons_ms,candidates_ms,temporal_ms,"
+                   "spatial_ms,shading_ms\n";
+        }
+
+        pt::Renderer renderer(scene, settings);
+        std::printf("scene %s: %u triangles, %u emitters, %zu VPLs; %ux%u, %u frame(s)\n",
+                    scene.name.c_str(), scene.triangle_count(), renderer.emitter_count(),
+                    renderer.vpl_count(), settings.width, settings.height, options.frames);
+        const bool interactive = isatty(fileno(stderr)) != 0;
+        double elapsed = 0.0;
+        for (std::uint32_t f = 0; f < options.frames; ++f) {
+            const pt::FrameTimings t = renderer.render_frame();
+            elapsed += t.total;
+            std::string error;
+            if (reference)
+                error = std::to_string(pt::rmse(renderer.accumulated(), *reference));
+            std::printf("frame %u: %.1f ms (primary %.1f, photons %.1f, candidates %.1f, temporal "
+                        "%.1f, spatial %.1f, shading %.1f)%s%s\n",
+                        f + 1, t.total, t.primary, t.photons, t.candidates, t.temporal, t.spatial,
+                        t.shading, reference ? " rmse " : "", error.c_str());
+            std::fflush(stdout);
+            if (csv)
+                csv << f + 1 << ',' << error << ',' << t.total << ',' << elapsed << ',' << t.primary
+                    << ',' << t.photons << ',' << t.candidates << ',' << t.temporal << ','
+                    << t.spatial << ',' << t.shading << '\n';
+            if (interactive)
+                progress(f + 1, options.frames, t.total);
+        }
+
+        const pt::Image& image = renderer.accumulated();
+        pt::write_image(options.out, image,
+                        options.exposure ? *options.exposure : pt::auto_exposure(image));
+        bool black = true;
+        for (const glm::vec3& p : image.pixels)
+            if (p.x > 0.0f || p.y > 0.0f || p.z > 0.0f) {
+                black = false;
+                break;
+            }
+        if (black)
+            std::cerr << "restir-render: warning: the image is black: does the camera see the "
+                         "lit scene (--look-from, --look-at)?\n";
+        std::printf("wrote %s\n", options.out.c_str());
+    } catch (const pt::SceneError& e) {
+        fail(e.what());
+    } catch (const pt::ImageError& e) {
+        fail(e.what());
+    } catch (const std::exception& e) {
+        fail(e.what());
+    }
+    return 0;
+}

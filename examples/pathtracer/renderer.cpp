@@ -1,0 +1,515 @@
+#include "renderer.hpp"
+
+#include <glm/geometric.hpp>
+#include <tbb/blocked_range2d.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <span>
+
+namespace pt {
+
+namespace {
+
+constexpr float inv_pi = 0.3183098861837907f;
+
+float luminance(glm::vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+float max_component(glm::vec3 c) { return std::max(c.x, std::max(c.y, c.z)); }
+
+/// A G-buffer texel: the primary hit of a pixel. Satisfies restir::Surface.
+struct GSurface {
+    glm::vec3 position{0.0f};
+    glm::vec3 normal{0.0f, 1.0f, 0.0f}; ///< Geometric normal, turned towards the viewer.
+    glm::vec3 albedo{0.0f};
+    glm::vec3 emitted{0.0f}; ///< Radiance the surface emits towards the viewer.
+    float depth = 0.0f;
+    bool valid = false;
+};
+glm::vec3 surface_position(const GSurface& s) { return s.position; }
+glm::vec3 surface_normal(const GSurface& s) { return s.normal; }
+float surface_depth(const GSurface& s) { return s.depth; }
+bool is_valid_surface(const GSurface& s) { return s.valid; }
+
+using Clock = std::chrono::steady_clock;
+double milliseconds_since(Clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// Cosine-distributed direction about `normal` (restir's emission sampler).
+glm::vec3 sample_cosine(glm::vec3 normal, restir::Pcg32& rng) {
+    const float u0 = next_float(rng);
+    const float u1 = next_float(rng);
+    return restir::sample_emission_direction(normal, u0, u1);
+}
+
+} // namespace
+
+using Unified = restir::UnifiedLightSet<TriangleEmitters>;
+using Reservoir = restir::Reservoir<restir::LightSampleRef>;
+
+struct Renderer::Impl {
+    const Renderer& r;
+    tbb::task_arena arena;
+    Camera camera, previous_camera;
+    float scene_size = 1.0f;
+    float ray_offset = 1e-4f;
+    restir::Falloff falloff{};
+
+    Unified lights;
+    restir::AliasTable light_table;   // unified: emitters + VPLs, by power
+    restir::AliasTable emitter_table; // emitters only, by power (path tracing NEE)
+    restir::AliasTable vpl_table;     // VPLs only, by power (reference VPL NEE)
+    restir::NeighborOffsets offsets = restir::make_neighbor_offsets();
+
+    std::vector<GSurface> surfaces, previous_surfaces;
+    std::vector<Reservoir> reservoirs, previous_reservoirs, scratch;
+    std::vector<glm::vec3> frame_image;
+
+    explicit Impl(const Renderer& renderer)
+        : r(renderer),
+          arena(renderer.settings_.threads == 0 ? tbb::task_arena::automatic
+                                                : static_cast<int>(renderer.settings_.threads)) {}
+
+    // --- Lights --------------------------------------------------------------------------
+    glm::vec3 reflected(const GSurface& s, const restir::LightSample& light) const {
+        return s.albedo * inv_pi *
+               restir::unshadowed_irradiance(light, s.position, s.normal, falloff);
+    }
+    float target(const restir::LightSampleRef& ref, const GSurface& s) const {
+        return luminance(reflected(s, lights.sample_point(ref.light_id, ref.uv)));
+    }
+    restir::LightVisibility<Unified, EmbreeScene> visibility() const {
+        return {&lights, &r.rays_, ray_offset};
+    }
+    bool visible(const restir::LightSampleRef& ref, const GSurface& s) const {
+        return visibility()(ref, s);
+    }
+
+    // --- Pixels --------------------------------------------------------------------------
+    template <class Body>
+    void for_each_pixel(Body&& body) {
+        const std::uint32_t width = r.settings_.width;
+        const std::uint32_t height = r.settings_.height;
+        arena.execute([&] {
+            tbb::parallel_for(
+                tbb::blocked_range2d<std::uint32_t>(0, height, 8, 0, width, 32),
+                [&](const tbb::blocked_range2d<std::uint32_t>& tile) {
+                    for (std::uint32_t y = tile.rows().begin(); y < tile.rows().end(); ++y)
+                        for (std::uint32_t x = tile.cols().begin(); x < tile.cols().end(); ++x)
+                            body(x, y, x + y * width);
+                });
+        });
+    }
+
+    GSurface primary(std::uint32_t x, std::uint32_t y, restir::Pcg32& rng) const {
+        const float jx = next_float(rng);
+        const float jy = next_float(rng);
+        const glm::vec3 direction =
+            camera.direction({static_cast<float>(x) + jx, static_cast<float>(y) + jy});
+        const Hit hit = r.rays_.closest_hit(camera.position(), direction);
+        GSurface s;
+        if (!hit.found)
+            return s;
+        const Material& m = r.scene_.materials[r.scene_.triangle_materials[hit.triangle]];
+        const bool front = glm::dot(hit.normal, direction) < 0.0f;
+        s.valid = true;
+        s.position = hit.position;
+        s.normal = front ? hit.normal : -hit.normal;
+        s.albedo = m.albedo;
+        s.emitted = front ? m.emission : glm::vec3(0.0f);
+        s.depth = hit.distance;
+        return s;
+    }
+
+    // A candidate light sample from the configured source.
+    restir::SourceSample<restir::LightSampleRef> draw_candidate(restir::Pcg32& rng) const {
+        restir::DiscreteSample c;
+        if (r.settings_.source == CandidateSource::power)
+            c = restir::sample_light(restir::PowerLightSampler{light_table.view()}, rng);
+        else
+            c = restir::sample_light(restir::UniformLightSampler{lights.light_count()}, rng);
+        const float u = next_float(rng);
+        const float v = next_float(rng);
+        return {{c.index, {u, v}}, c.pmf};
+    }
+
+    Reservoir initial_reservoir(const GSurface& s, restir::Pcg32& rng) const {
+        return restir::resample_ris(
+            rng, r.settings_.candidates, [&](restir::Pcg32& g) { return draw_candidate(g); },
+            [&](const restir::LightSampleRef& ref) { return target(ref, s); });
+    }
+
+    // f(y) W without visibility, for a reservoir whose sample is known to be visible.
+    glm::vec3 unshadowed(const Reservoir& reservoir, const GSurface& s) const {
+        if (!reservoir.has_sample() || !(reservoir.contribution_weight > 0.0f))
+            return glm::vec3(0.0f);
+        const restir::LightSample light =
+            lights.sample_point(reservoir.sample.light_id, reservoir.sample.uv);
+        return reflected(s, light) * reservoir.contribution_weight;
+    }
+
+    // f(y) W with the shadow ray.
+    glm::vec3 shade(const Reservoir& reservoir, const GSurface& s) const {
+        return reservoir.has_sample() && visible(reservoir.sample, s) ? unshadowed(reservoir, s)
+                                                                      : glm::vec3(0.0f);
+    }
+
+    // One uniformly chosen light sample, f / p.
+    glm::vec3 uniform_estimate(const GSurface& s, restir::Pcg32& rng) const {
+        const restir::DiscreteSample c =
+            restir::sample_light(restir::UniformLightSampler{lights.light_count()}, rng);
+        const float u = next_float(rng);
+        const float v = next_float(rng);
+        const restir::LightSampleRef ref{c.index, {u, v}};
+        if (!(c.pmf > 0.0f) || !visible(ref, s))
+            return glm::vec3(0.0f);
+        return reflected(s, lights.sample_point(ref.light_id, ref.uv)) / c.pmf;
+    }
+
+    // --- Path tracing ----------------------------------------------------------------------
+    // Emitters by power with MIS against cosine sampling; VPLs by power (no MIS: delta).
+    glm::vec3 emitter_nee(const GSurface& s, restir::Pcg32& rng) const {
+        const restir::DiscreteSample c =
+            restir::sample_light(restir::PowerLightSampler{emitter_table.view()}, rng);
+        const float u = next_float(rng);
+        const float v = next_float(rng);
+        if (!(c.pmf > 0.0f))
+            return glm::vec3(0.0f);
+        const restir::LightSampleRef ref{c.index, {u, v}};
+        const restir::LightSample light = lights.sample_point(ref.light_id, ref.uv);
+        const glm::vec3 to_light = light.position - s.position;
+        const float d2 = glm::dot(to_light, to_light);
+        const glm::vec3 w = to_light / std::sqrt(d2);
+        const float cos_light = -glm::dot(light.normal, w);
+        const float cos_surface = glm::dot(s.normal, w);
+        if (!(cos_light > 0.0f) || !(cos_surface > 0.0f) || !visible(ref, s))
+            return glm::vec3(0.0f);
+        const float light_pdf = c.pmf * light.area_pdf * d2 / cos_light; // solid angle
+        const float bsdf_pdf = cos_surface * inv_pi;
+        return reflected(s, light) / c.pmf * (light_pdf / (light_pdf + bsdf_pdf));
+    }
+
+    glm::vec3 vpl_nee(const GSurface& s, restir::Pcg32& rng) const {
+        if (r.vpls_.empty())
+            return glm::vec3(0.0f);
+        const restir::DiscreteSample c =
+            restir::sample_light(restir::PowerLightSampler{vpl_table.view()}, rng);
+        if (!(c.pmf > 0.0f))
+            return glm::vec3(0.0f);
+        const restir::LightSampleRef ref{r.emitters_.light_count() + c.index, {0.0f, 0.0f}};
+        if (!visible(ref, s))
+            return glm::vec3(0.0f);
+        return reflected(s, lights.sample_point(ref.light_id, ref.uv)) / c.pmf;
+    }
+
+    GSurface surface_at(const Hit& hit, glm::vec3 direction) const {
+        GSurface s;
+        const Material& m = r.scene_.materials[r.scene_.triangle_materials[hit.triangle]];
+        s.valid = true;
+        s.position = hit.position;
+        s.normal = glm::dot(hit.normal, direction) < 0.0f ? hit.normal : -hit.normal;
+        s.albedo = m.albedo;
+        s.depth = hit.distance;
+        return s;
+    }
+
+    // Radiance reflected at `start` towards the previous vertex (its own emission excluded).
+    // With `direct` the emitters' direct light at `start` is included (NEE + MIS); without it,
+    // the caller has estimated it, and only light that bounced at least once more is added.
+    // `bounce_further` continues beyond the first bounce (gi path; otherwise the path stops
+    // after the cosine-sampled ray that MIS needs).
+    glm::vec3 path_radiance(const GSurface& start, restir::Pcg32& rng, bool direct,
+                            bool bounce_further) const {
+        glm::vec3 radiance(0.0f);
+        glm::vec3 throughput(1.0f);
+        GSurface s = start;
+        for (std::uint32_t depth = 0;; ++depth) {
+            if (direct)
+                radiance += throughput * emitter_nee(s, rng);
+            if (depth + 1 >= r.settings_.max_depth || (!direct && !bounce_further && depth > 0))
+                break;
+            const glm::vec3 direction = sample_cosine(s.normal, rng);
+            const Hit hit = r.rays_.closest_hit(s.position + s.normal * ray_offset, direction);
+            if (!hit.found)
+                break;
+            throughput *= s.albedo; // f cos / pdf of cosine sampling
+            const std::uint32_t emitter = r.emitters_.emitter_of_triangle(hit.triangle);
+            if (direct && emitter != TriangleEmitters::none &&
+                glm::dot(hit.normal, direction) < 0.0f) {
+                const float cos_light = -glm::dot(hit.normal, direction);
+                const float light_pdf = emitter_table.pmf(emitter) / r.emitters_.area(emitter) *
+                                        hit.distance * hit.distance / cos_light;
+                const float bsdf_pdf = glm::dot(s.normal, direction) * inv_pi;
+                radiance += throughput * r.emitters_.radiance(emitter) *
+                            (bsdf_pdf / (bsdf_pdf + light_pdf));
+            }
+            if (!bounce_further)
+                break;
+            if (depth >= 2) { // Russian roulette
+                const float survival = std::min(0.95f, max_component(throughput));
+                if (!(survival > 0.0f) || next_float(rng) >= survival)
+                    break;
+                throughput /= survival;
+            }
+            s = surface_at(hit, direction);
+            direct = true;
+        }
+        return radiance;
+    }
+};
+
+Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
+    : scene_(scene), settings_(settings), rays_(scene), emitters_(scene),
+      accumulated_(settings.width, settings.height),
+      sum_(std::size_t{settings.width} * settings.height, glm::dvec3(0.0)) {
+    if (emitters_.light_count() == 0)
+        throw SceneError("scene '" + scene.name +
+                         "' has no emitters: give some material a positive Ke");
+    impl_ = std::make_unique<Impl>(*this);
+    Impl& im = *impl_;
+
+    glm::vec3 low(std::numeric_limits<float>::max()), high(-std::numeric_limits<float>::max());
+    for (const glm::vec3& p : scene.positions) {
+        low = glm::min(low, p);
+        high = glm::max(high, p);
+    }
+    im.scene_size = std::max(glm::length(high - low), 1e-6f);
+    im.ray_offset = 1e-4f * im.scene_size;
+    im.falloff = {restir::Attenuation::yuksel, settings.attenuation_radius > 0.0f
+                                                   ? settings.attenuation_radius
+                                                   : 0.02f * im.scene_size};
+    im.camera = Camera(settings.camera, settings.width, settings.height);
+    im.previous_camera = im.camera;
+
+    if (settings.gi == GlobalIllumination::vpl && settings.vpls > 0) {
+        const auto start = Clock::now();
+        restir::PhotonParams params = restir::default_photon_params();
+        params.max_bounces = settings.vpl_bounces;
+        params.ray_offset = im.ray_offset;
+        params.seed = settings.seed;
+        const auto scatter = [&scene](const Hit& hit, glm::vec3 incoming, restir::Pcg32& rng) {
+            const Material& m = scene.materials[scene.triangle_materials[hit.triangle]];
+            const glm::vec3 facing =
+                glm::dot(hit.normal, incoming) < 0.0f ? hit.normal : -hit.normal;
+            return restir::Scattering{sample_cosine(facing, rng), m.albedo, m.albedo, true,
+                                      m.is_emissive()};
+        };
+        const auto parallel_for = [&im](std::uint32_t count, auto&& body) {
+            im.arena.execute(
+                [&] { tbb::parallel_for(0u, count, [&](std::uint32_t i) { body(i); }); });
+        };
+        // A pilot pass measures VPLs per photon, so that the budget gives about `vpls` VPLs.
+        params.photon_count = std::min<std::uint32_t>(settings.vpls, 4096u);
+        const std::size_t pilot =
+            restir::shoot_photons(emitters_, rays_, scatter, params, parallel_for).size();
+        const double per_photon = std::max(1e-3, static_cast<double>(pilot) / params.photon_count);
+        params.photon_count = static_cast<std::uint32_t>(
+            std::clamp(std::ceil(settings.vpls / per_photon), 1.0, 4.0e9));
+        vpls_ = restir::shoot_photons(emitters_, rays_, scatter, params, parallel_for);
+        photon_ms_ = milliseconds_since(start);
+    }
+
+    im.lights = Unified{&emitters_, vpls_.data(), static_cast<std::uint32_t>(vpls_.size())};
+    const std::vector<float> powers = restir::unified_light_powers(im.lights);
+    im.light_table.build(powers);
+    im.emitter_table.build(std::span<const float>(powers.data(), emitters_.light_count()));
+    if (!vpls_.empty())
+        im.vpl_table.build(
+            std::span<const float>(powers.data() + emitters_.light_count(), vpls_.size()));
+
+    const std::size_t pixels = std::size_t{settings.width} * settings.height;
+    im.surfaces.resize(pixels);
+    im.previous_surfaces.resize(pixels);
+    im.frame_image.resize(pixels);
+    if (settings.method == Method::restir) {
+        im.reservoirs.resize(pixels);
+        im.previous_reservoirs.resize(pixels);
+        im.scratch.resize(pixels);
+    }
+}
+
+Renderer::~Renderer() = default;
+
+FrameTimings Renderer::render_frame() {
+    Impl& im = *impl_;
+    FrameTimings t;
+    const auto frame_start = Clock::now();
+    if (frame_ == 0)
+        t.photons = photon_ms_;
+    const RenderSettings& rs = settings_;
+    const std::uint64_t seed = rs.seed;
+    const std::uint32_t frame = frame_;
+
+    if (rs.motion == CameraMotion::orbit) {
+        CameraSetup setup = rs.camera;
+        const float angle = 0.004f * static_cast<float>(frame);
+        const glm::vec3 offset = setup.look_from - setup.look_at;
+        setup.look_from =
+            setup.look_at + glm::vec3(offset.x * std::cos(angle) + offset.z * std::sin(angle),
+                                      offset.y,
+                                      -offset.x * std::sin(angle) + offset.z * std::cos(angle));
+        im.previous_camera = im.camera;
+        im.camera = Camera(setup, rs.width, rs.height);
+    }
+
+    const bool gi_path = rs.gi == GlobalIllumination::path;
+
+    if (rs.method == Method::restir) {
+        // Primary rays.
+        auto start = Clock::now();
+        std::swap(im.surfaces, im.previous_surfaces);
+        im.for_each_pixel([&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
+            restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 0u, seed);
+            im.surfaces[i] = im.primary(x, y, rng);
+        });
+        t.primary = milliseconds_since(start);
+
+        // Initial candidates (and their visibility, for visibility reuse).
+        start = Clock::now();
+        std::swap(im.reservoirs, im.previous_reservoirs);
+        im.for_each_pixel([&](std::uint32_t, std::uint32_t, std::uint32_t i) {
+            const GSurface& s = im.surfaces[i];
+            Reservoir& reservoir = im.reservoirs[i];
+            reservoir = Reservoir{};
+            if (!s.valid)
+                return;
+            restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 1u, seed);
+            reservoir = im.initial_reservoir(s, rng);
+            if (rs.visibility_reuse)
+                restir::apply_visibility(reservoir, s, im.visibility());
+        });
+        t.candidates = milliseconds_since(start);
+
+        const restir::ReuseBridge bridge{[&im](const restir::LightSampleRef& ref,
+                                               const GSurface& s) { return im.target(ref, s); },
+                                         im.visibility()};
+        const restir::ReuseParams reuse{rs.bias_correction, rs.visibility_reuse};
+
+        // Temporal reuse through reprojection of this frame's surfaces into the last camera.
+        start = Clock::now();
+        if (frame > 0) {
+            restir::TemporalParams params = restir::default_temporal_params();
+            params.reuse = reuse;
+            params.history_cap_multiplier = rs.history_cap;
+            params.frame_index = frame;
+            const restir::ImageView<const Reservoir> previous{im.previous_reservoirs.data(),
+                                                              rs.width, rs.height};
+            const restir::ImageView<const GSurface> previous_surfaces{im.previous_surfaces.data(),
+                                                                      rs.width, rs.height};
+            const auto reproject = [&im, &rs](restir::PixelCoord p) {
+                const GSurface& s = im.surfaces[static_cast<std::size_t>(p.x) +
+                                                static_cast<std::size_t>(p.y) * rs.width];
+                glm::vec2 q;
+                if (!im.previous_camera.project(s.position, q))
+                    return restir::PixelCoord{-1, -1};
+                return restir::PixelCoord{static_cast<std::int32_t>(std::floor(q.x)),
+                                          static_cast<std::int32_t>(std::floor(q.y))};
+            };
+            im.for_each_pixel([&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
+                restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 2u, seed);
+                im.scratch[i] = restir::temporal_resample(
+                    {static_cast<std::int32_t>(x), static_cast<std::int32_t>(y)}, im.reservoirs[i],
+                    im.surfaces[i], previous, previous_surfaces, reproject, params, bridge, rng);
+            });
+            std::swap(im.reservoirs, im.scratch);
+        }
+        t.temporal = milliseconds_since(start);
+
+        // Spatial passes.
+        start = Clock::now();
+        const restir::ImageView<const GSurface> surface_view{im.surfaces.data(), rs.width,
+                                                             rs.height};
+        restir::SpatialParams spatial = restir::default_spatial_params();
+        spatial.reuse = reuse;
+        spatial.neighbour_count = rs.neighbours;
+        spatial.radius = rs.radius;
+        for (std::uint32_t pass = 0; pass < rs.spatial_passes; ++pass) {
+            const restir::ImageView<const Reservoir> input{im.reservoirs.data(), rs.width,
+                                                           rs.height};
+            im.for_each_pixel([&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
+                restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 3u + pass, seed);
+                im.scratch[i] = restir::spatial_resample(
+                    {static_cast<std::int32_t>(x), static_cast<std::int32_t>(y)}, input,
+                    surface_view, spatial, im.offsets, bridge, rng);
+            });
+            std::swap(im.reservoirs, im.scratch);
+        }
+        t.spatial = milliseconds_since(start);
+
+        // Shading: the final visibility ray, which with visibility reuse also zeroes W of an
+        // occluded sample before the reservoir becomes next frame's history.
+        start = Clock::now();
+        im.for_each_pixel([&](std::uint32_t, std::uint32_t, std::uint32_t i) {
+            const GSurface& s = im.surfaces[i];
+            glm::vec3 color(0.0f);
+            if (s.valid) {
+                Reservoir& reservoir = im.reservoirs[i];
+                color = s.emitted + (rs.visibility_reuse
+                                         ? (restir::apply_visibility(reservoir, s, im.visibility())
+                                                ? im.unshadowed(reservoir, s)
+                                                : glm::vec3(0.0f))
+                                         : im.shade(reservoir, s));
+                if (gi_path) {
+                    restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 100u, seed);
+                    color += im.path_radiance(s, rng, false, true);
+                }
+            }
+            im.frame_image[i] = color;
+        });
+        t.shading = milliseconds_since(start);
+    } else {
+        // uniform, ris, reference: independent samples, spp per frame.
+        std::fill(im.frame_image.begin(), im.frame_image.end(), glm::vec3(0.0f));
+        for (std::uint32_t sample = 0; sample < rs.spp; ++sample) {
+            const std::uint32_t index = frame * rs.spp + sample;
+            auto start = Clock::now();
+            im.for_each_pixel([&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
+                restir::Pcg32 rng = restir::make_pixel_rng(i, index, 0u, seed);
+                im.surfaces[i] = im.primary(x, y, rng);
+            });
+            t.primary += milliseconds_since(start);
+            start = Clock::now();
+            im.for_each_pixel([&](std::uint32_t, std::uint32_t, std::uint32_t i) {
+                const GSurface& s = im.surfaces[i];
+                if (!s.valid)
+                    return;
+                restir::Pcg32 rng = restir::make_pixel_rng(i, index, 1u, seed);
+                glm::vec3 color = s.emitted;
+                switch (rs.method) {
+                case Method::uniform:
+                    color += im.uniform_estimate(s, rng);
+                    break;
+                case Method::ris:
+                    color += im.shade(im.initial_reservoir(s, rng), s);
+                    break;
+                case Method::reference:
+                    color += im.path_radiance(s, rng, true, gi_path);
+                    if (rs.gi == GlobalIllumination::vpl)
+                        color += im.vpl_nee(s, rng);
+                    break;
+                case Method::restir:
+                    break;
+                }
+                if (gi_path && rs.method != Method::reference)
+                    color += im.path_radiance(s, rng, false, true);
+                im.frame_image[i] += color / static_cast<float>(rs.spp);
+            });
+            t.shading += milliseconds_since(start);
+        }
+    }
+
+    ++frame_;
+    const double inverse = 1.0 / frame_;
+    for (std::size_t i = 0; i < sum_.size(); ++i) {
+        sum_[i] += glm::dvec3(im.frame_image[i]);
+        accumulated_.pixels[i] = glm::vec3(sum_[i] * inverse);
+    }
+    t.total = milliseconds_since(frame_start);
+    return t;
+}
+
+} // namespace pt

@@ -1,0 +1,99 @@
+// The example renderer: a G-buffer of primary hits, then direct (and VPL) lighting by one of
+// the library's methods, optional path-traced indirect light, accumulated over frames.
+#pragma once
+
+#include "camera.hpp"
+#include "embree_scene.hpp"
+#include "image_io.hpp"
+#include "lights.hpp"
+#include "scene.hpp"
+
+#include <restir/restir.hpp>
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace pt {
+
+enum class Method {
+    uniform,  ///< One light chosen uniformly per sample, estimate f / p.
+    ris,      ///< Resampled importance sampling from `candidates` candidates.
+    restir,   ///< RIS + temporal + spatial reuse.
+    reference ///< Unbiased path tracer with next-event estimation and MIS.
+};
+enum class GlobalIllumination {
+    none, ///< Direct light only.
+    vpl,  ///< Direct light + VPLs (photons shot once), through one unified light set.
+    path  ///< Direct light + path-traced indirect light.
+};
+enum class CandidateSource { power, uniform };
+enum class CameraMotion { none, orbit };
+
+struct RenderSettings {
+    std::uint32_t width = 640;
+    std::uint32_t height = 480;
+    std::uint32_t spp = 1; ///< Samples per pixel per frame (restir: 1).
+    Method method = Method::restir;
+    GlobalIllumination gi = GlobalIllumination::vpl;
+    CandidateSource source = CandidateSource::power;
+    std::uint64_t seed = 0;
+    CameraSetup camera{};
+    CameraMotion motion = CameraMotion::none;
+    std::uint32_t threads = 0; ///< 0: all hardware threads.
+    // Library parameters.
+    std::uint32_t candidates = 32;
+    std::uint32_t neighbours = 5;
+    float radius = 30.0f;
+    std::uint32_t spatial_passes = 1;
+    std::uint32_t history_cap = 20;
+    restir::BiasCorrection bias_correction = restir::BiasCorrection::pairwise;
+    bool visibility_reuse = true;
+    std::uint32_t vpls = 100'000;    ///< About this many VPLs (gi vpl).
+    std::uint32_t vpl_bounces = 8;   ///< Photon bounce limit.
+    float attenuation_radius = 0.0f; ///< Yuksel radius for VPLs; 0: 2 % of the scene's size.
+    std::uint32_t max_depth = 8;     ///< Path length limit (reference, gi path).
+};
+
+/// Milliseconds per phase of one frame.
+struct FrameTimings {
+    double primary = 0, photons = 0, candidates = 0, temporal = 0, spatial = 0, shading = 0,
+           total = 0;
+};
+
+/// Renders frames of one scene with one setting. Throws SceneError for a scene without
+/// emitters.
+class Renderer {
+public:
+    Renderer(const Scene& scene, const RenderSettings& settings);
+    ~Renderer();
+    Renderer(const Renderer&) = delete;
+    Renderer& operator=(const Renderer&) = delete;
+
+    /// Renders the next frame into the accumulation; the first frame's timings include photon
+    /// shooting.
+    FrameTimings render_frame();
+
+    /// Average of the frames rendered so far.
+    const Image& accumulated() const { return accumulated_; }
+    std::uint32_t frames_rendered() const { return frame_; }
+    std::size_t vpl_count() const { return vpls_.size(); }
+    std::uint32_t emitter_count() const { return emitters_.light_count(); }
+
+private:
+    struct Impl;
+    friend struct Impl;
+
+    const Scene& scene_;
+    RenderSettings settings_;
+    EmbreeScene rays_;
+    TriangleEmitters emitters_;
+    std::vector<restir::Vpl> vpls_;
+    double photon_ms_ = 0.0;
+    std::unique_ptr<Impl> impl_;
+    Image accumulated_;
+    std::vector<glm::dvec3> sum_;
+    std::uint32_t frame_ = 0;
+};
+
+} // namespace pt

@@ -1,0 +1,422 @@
+#include "scene.hpp"
+
+#include <restir/core/rng.hpp>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
+
+#include <tiny_obj_loader.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <fstream>
+#include <limits>
+#include <numbers>
+#include <string>
+#include <string_view>
+#include <system_error>
+#include <utility>
+#include <vector>
+
+namespace pt {
+namespace {
+
+using Quad = std::array<glm::vec3, 4>;
+
+glm::vec3 centroid(const Quad& quad) { return 0.25f * (quad[0] + quad[1] + quad[2] + quad[3]); }
+
+/// Appends `quad` as the triangles (a, b, c) and (a, c, d), reversing its winding first when
+/// its normal does not point along `towards`.
+void add_quad(Scene& scene, Quad quad, glm::vec3 towards, std::uint32_t material) {
+    const glm::vec3 normal = glm::cross(quad[2] - quad[0], quad[3] - quad[1]);
+    if (glm::dot(normal, towards) < 0.0f) {
+        std::swap(quad[1], quad[3]);
+    }
+    const auto base = static_cast<std::uint32_t>(scene.positions.size());
+    scene.positions.insert(scene.positions.end(), quad.begin(), quad.end());
+    for (const std::uint32_t corner : {0u, 1u, 2u, 0u, 2u, 3u}) {
+        scene.indices.push_back(base + corner);
+    }
+    scene.triangle_materials.push_back(material);
+    scene.triangle_materials.push_back(material);
+}
+
+float luminance(glm::vec3 rgb) { return 0.2126f * rgb.x + 0.7152f * rgb.y + 0.0722f * rgb.z; }
+
+/// Joins the non-empty lines of `text`, trimmed, with "; ".
+std::string one_line(std::string_view text) {
+    std::string result;
+    while (!text.empty()) {
+        const std::size_t end = text.find_first_of("\r\n");
+        std::string_view line = text.substr(0, end);
+        text = end == std::string_view::npos ? std::string_view{} : text.substr(end + 1);
+        const std::size_t first = line.find_first_not_of(" \t");
+        if (first == std::string_view::npos) {
+            continue;
+        }
+        line = line.substr(first, line.find_last_not_of(" \t") - first + 1);
+        if (!result.empty()) {
+            result += "; ";
+        }
+        result += line;
+    }
+    return result;
+}
+
+/// The names in tinyobjloader's "Material file [ NAME ] not found in a path : DIR" warnings.
+std::string missing_material_libraries(const std::string& warnings) {
+    constexpr std::string_view prefix = "Material file [ ";
+    constexpr std::string_view suffix = " ] not found";
+    std::string names;
+    std::size_t position = 0;
+    while ((position = warnings.find(prefix, position)) != std::string::npos) {
+        position += prefix.size();
+        const std::size_t end = warnings.find(suffix, position);
+        if (end == std::string::npos) {
+            break;
+        }
+        if (!names.empty()) {
+            names += ", ";
+        }
+        names += warnings.substr(position, end - position);
+        position = end;
+    }
+    return names;
+}
+
+} // namespace
+
+Scene make_cornell_box() {
+    Scene scene;
+    scene.name = "cornell";
+    constexpr std::uint32_t white = 0;
+    constexpr std::uint32_t red = 1;
+    constexpr std::uint32_t green = 2;
+    constexpr std::uint32_t light = 3;
+    scene.materials = {
+        {"white", {0.725f, 0.71f, 0.68f}, {0.0f, 0.0f, 0.0f}},
+        {"red", {0.63f, 0.065f, 0.05f}, {0.0f, 0.0f, 0.0f}},
+        {"green", {0.14f, 0.45f, 0.091f}, {0.0f, 0.0f, 0.0f}},
+        {"light", {0.78f, 0.78f, 0.78f}, {17.0f, 12.0f, 4.0f}},
+    };
+
+    const glm::vec3 interior{278.0f, 274.0f, 280.0f};
+    const auto add_room_quad = [&](const Quad& quad, std::uint32_t material) {
+        add_quad(scene, quad, interior - centroid(quad), material);
+    };
+    const auto add_block = [&](const std::array<Quad, 5>& faces) {
+        // The mean of all face corners lies strictly inside the convex block.
+        glm::vec3 centre{0.0f};
+        for (const Quad& face : faces) {
+            centre += centroid(face);
+        }
+        centre /= static_cast<float>(faces.size());
+        for (const Quad& face : faces) {
+            add_quad(scene, face, centroid(face) - centre, white);
+        }
+    };
+
+    add_room_quad(
+        {{{552.8f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 559.2f}, {549.6f, 0.0f, 559.2f}}},
+        white);
+
+    // Lowered by 0.5 mm so that it is not coplanar with the ceiling.
+    constexpr float light_y = 548.8f - 0.5f;
+    add_quad(scene,
+             {{{343.0f, light_y, 227.0f},
+               {343.0f, light_y, 332.0f},
+               {213.0f, light_y, 332.0f},
+               {213.0f, light_y, 227.0f}}},
+             {0.0f, -1.0f, 0.0f}, light);
+
+    add_room_quad({{{556.0f, 548.8f, 0.0f},
+                    {556.0f, 548.8f, 559.2f},
+                    {0.0f, 548.8f, 559.2f},
+                    {0.0f, 548.8f, 0.0f}}},
+                  white);
+    add_room_quad({{{549.6f, 0.0f, 559.2f},
+                    {0.0f, 0.0f, 559.2f},
+                    {0.0f, 548.8f, 559.2f},
+                    {556.0f, 548.8f, 559.2f}}},
+                  white);
+    add_room_quad(
+        {{{0.0f, 0.0f, 559.2f}, {0.0f, 0.0f, 0.0f}, {0.0f, 548.8f, 0.0f}, {0.0f, 548.8f, 559.2f}}},
+        green);
+    add_room_quad({{{552.8f, 0.0f, 0.0f},
+                    {549.6f, 0.0f, 559.2f},
+                    {556.0f, 548.8f, 559.2f},
+                    {556.0f, 548.8f, 0.0f}}},
+                  red);
+
+    add_block({{
+        {{{130.0f, 165.0f, 65.0f},
+          {82.0f, 165.0f, 225.0f},
+          {240.0f, 165.0f, 272.0f},
+          {290.0f, 165.0f, 114.0f}}},
+        {{{290.0f, 0.0f, 114.0f},
+          {290.0f, 165.0f, 114.0f},
+          {240.0f, 165.0f, 272.0f},
+          {240.0f, 0.0f, 272.0f}}},
+        {{{130.0f, 0.0f, 65.0f},
+          {130.0f, 165.0f, 65.0f},
+          {290.0f, 165.0f, 114.0f},
+          {290.0f, 0.0f, 114.0f}}},
+        {{{82.0f, 0.0f, 225.0f},
+          {82.0f, 165.0f, 225.0f},
+          {130.0f, 165.0f, 65.0f},
+          {130.0f, 0.0f, 65.0f}}},
+        {{{240.0f, 0.0f, 272.0f},
+          {240.0f, 165.0f, 272.0f},
+          {82.0f, 165.0f, 225.0f},
+          {82.0f, 0.0f, 225.0f}}},
+    }});
+    add_block({{
+        {{{423.0f, 330.0f, 247.0f},
+          {265.0f, 330.0f, 296.0f},
+          {314.0f, 330.0f, 456.0f},
+          {472.0f, 330.0f, 406.0f}}},
+        {{{423.0f, 0.0f, 247.0f},
+          {423.0f, 330.0f, 247.0f},
+          {472.0f, 330.0f, 406.0f},
+          {472.0f, 0.0f, 406.0f}}},
+        {{{472.0f, 0.0f, 406.0f},
+          {472.0f, 330.0f, 406.0f},
+          {314.0f, 330.0f, 456.0f},
+          {314.0f, 0.0f, 456.0f}}},
+        {{{314.0f, 0.0f, 456.0f},
+          {314.0f, 330.0f, 456.0f},
+          {265.0f, 330.0f, 296.0f},
+          {265.0f, 0.0f, 296.0f}}},
+        {{{265.0f, 0.0f, 296.0f},
+          {265.0f, 330.0f, 296.0f},
+          {423.0f, 330.0f, 247.0f},
+          {423.0f, 0.0f, 247.0f}}},
+    }});
+
+    scene.camera = CameraSetup{
+        {278.0f, 273.0f, -800.0f}, {278.0f, 273.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, 39.3077f};
+    return scene;
+}
+
+Scene make_many_lights(std::uint32_t light_count, std::uint64_t seed) {
+    constexpr std::uint32_t max_lights = 10'000'000;
+    if (light_count == 0 || light_count > max_lights) {
+        throw SceneError("many-lights: the light count must be between 1 and 10000000");
+    }
+    constexpr float floor_half_size = 50.0f;
+    constexpr float lit_half_size = 40.0f; // lights are spread over [-40, 40]^2
+    constexpr float min_height = 1.0f;
+    constexpr float max_height = 3.0f;
+    constexpr std::uint32_t palette_size = 16;
+    // Total luminance-weighted emitted power, independent of the light count: it lights the
+    // floor to an average outgoing radiance of about 0.5.
+    constexpr float total_power = 15000.0f;
+
+    Scene scene;
+    scene.name = "many-lights";
+    scene.positions.reserve(4 * (std::size_t{light_count} + 1));
+    scene.indices.reserve(6 * (std::size_t{light_count} + 1));
+    scene.triangle_materials.reserve(2 * (std::size_t{light_count} + 1));
+    scene.materials.reserve(palette_size + 1);
+    scene.materials.push_back({"floor", {0.725f, 0.71f, 0.68f}, {0.0f, 0.0f, 0.0f}});
+
+    const float f = floor_half_size;
+    add_quad(scene, {{{-f, 0.0f, -f}, {f, 0.0f, -f}, {f, 0.0f, f}, {-f, 0.0f, f}}},
+             {0.0f, 1.0f, 0.0f}, 0);
+
+    restir::Pcg32 rng = restir::make_pixel_rng(0u, 0u, 0u, seed);
+
+    // Palette: random colours of unit luminance times an intensity in [0.25, 1.75).
+    std::array<glm::vec3, palette_size> colours{};
+    std::array<float, palette_size> intensities{};
+    for (std::uint32_t k = 0; k < palette_size; ++k) {
+        glm::vec3 colour{0.2f + 0.8f * next_float(rng), 0.2f + 0.8f * next_float(rng),
+                         0.2f + 0.8f * next_float(rng)};
+        colours[k] = colour / luminance(colour);
+        intensities[k] = 0.25f + 1.5f * next_float(rng);
+    }
+
+    // Sides in [max/3, max], with max shrinking as the lights get denser.
+    const float lit_area = 4.0f * lit_half_size * lit_half_size;
+    const float max_side =
+        std::min(0.3f, 0.5f * std::sqrt(lit_area / static_cast<float>(light_count)));
+    const float min_side = max_side / 3.0f;
+
+    double weighted_area = 0.0; // sum of intensity * area over the lights
+    for (std::uint32_t i = 0; i < light_count; ++i) {
+        const float x = lit_half_size * (2.0f * next_float(rng) - 1.0f);
+        const float z = lit_half_size * (2.0f * next_float(rng) - 1.0f);
+        const float y = min_height + (max_height - min_height) * next_float(rng);
+        const float side = min_side + (max_side - min_side) * next_float(rng);
+        const auto entry =
+            std::min(static_cast<std::uint32_t>(next_float(rng) * static_cast<float>(palette_size)),
+                     palette_size - 1);
+        const float h = 0.5f * side;
+        add_quad(scene,
+                 {{{x - h, y, z - h}, {x + h, y, z - h}, {x + h, y, z + h}, {x - h, y, z + h}}},
+                 {0.0f, -1.0f, 0.0f}, 1 + entry);
+        weighted_area += static_cast<double>(intensities[entry]) * static_cast<double>(side * side);
+    }
+
+    // A diffuse emitter of radiance L and area A emits pi * L * A.
+    const auto scale =
+        static_cast<float>(static_cast<double>(total_power) / (std::numbers::pi * weighted_area));
+    for (std::uint32_t k = 0; k < palette_size; ++k) {
+        std::string name = "light-";
+        if (k < 10) {
+            name += '0';
+        }
+        name += std::to_string(k);
+        scene.materials.push_back(
+            {std::move(name), {0.8f, 0.8f, 0.8f}, colours[k] * (intensities[k] * scale)});
+    }
+
+    scene.camera =
+        CameraSetup{{0.0f, 120.0f, 100.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, 40.0f};
+    return scene;
+}
+
+Scene load_obj(const std::filesystem::path& path) {
+    const std::string file = path.string();
+    const auto fail = [&file](std::string_view reason) {
+        return SceneError("cannot read scene " + file + ": " + one_line(reason));
+    };
+
+    std::error_code error;
+    const std::filesystem::file_status status = std::filesystem::status(path, error);
+    if (status.type() == std::filesystem::file_type::not_found) {
+        throw fail("no such file");
+    }
+    if (error) {
+        throw fail(error.message());
+    }
+    if (std::filesystem::is_directory(status)) {
+        throw fail("it is a directory");
+    }
+    if (!std::ifstream(path)) {
+        throw fail("the file cannot be opened");
+    }
+
+    tinyobj::ObjReaderConfig config;
+    config.triangulate = true;
+    config.vertex_color = false;
+    config.mtl_search_path = path.has_parent_path() ? path.parent_path().string() : ".";
+
+    tinyobj::ObjReader reader;
+    if (!reader.ParseFromFile(file, config)) {
+        throw fail(reader.Error().empty() ? std::string_view{"parse error"} : reader.Error());
+    }
+    if (reader.Warning().find("Failed to load material file(s)") != std::string::npos) {
+        throw fail("material library " + missing_material_libraries(reader.Warning()) +
+                   " not found in " + config.mtl_search_path);
+    }
+
+    Scene scene;
+    scene.name = path.stem().string();
+    for (const tinyobj::material_t& source : reader.GetMaterials()) {
+        Material material;
+        material.name = source.name;
+        material.albedo = glm::clamp(
+            glm::vec3{source.diffuse[0], source.diffuse[1], source.diffuse[2]}, 0.0f, 1.0f);
+        material.emission =
+            glm::max(glm::vec3{source.emission[0], source.emission[1], source.emission[2]}, 0.0f);
+        scene.materials.push_back(std::move(material));
+    }
+    const auto obj_material_count = static_cast<int>(scene.materials.size());
+    std::optional<std::uint32_t> default_material;
+    const auto material_index = [&](int id) {
+        if (id >= 0 && id < obj_material_count) {
+            return static_cast<std::uint32_t>(id);
+        }
+        if (!default_material) {
+            default_material = static_cast<std::uint32_t>(scene.materials.size());
+            scene.materials.push_back({"default", glm::vec3{0.8f}, glm::vec3{0.0f}});
+        }
+        return *default_material;
+    };
+
+    const std::vector<tinyobj::real_t>& coordinates = reader.GetAttrib().vertices;
+    const std::size_t vertex_count = coordinates.size() / 3;
+    constexpr std::uint32_t unused = std::numeric_limits<std::uint32_t>::max();
+    std::vector<std::uint32_t> remap(vertex_count, unused);
+    const auto vertex = [&](const tinyobj::index_t& index) {
+        if (index.vertex_index < 0 ||
+            static_cast<std::size_t>(index.vertex_index) >= vertex_count) {
+            throw fail("a face refers to vertex " + std::to_string(index.vertex_index + 1) +
+                       " but the file defines " + std::to_string(vertex_count) + " vertices");
+        }
+        const auto source = static_cast<std::size_t>(index.vertex_index);
+        std::uint32_t& target = remap[source];
+        if (target == unused) {
+            const glm::vec3 position{coordinates[3 * source], coordinates[3 * source + 1],
+                                     coordinates[3 * source + 2]};
+            if (!std::isfinite(position.x) || !std::isfinite(position.y) ||
+                !std::isfinite(position.z)) {
+                throw fail("vertex " + std::to_string(source + 1) + " is not finite");
+            }
+            if (scene.positions.size() >= unused) {
+                throw fail("too many vertices");
+            }
+            target = static_cast<std::uint32_t>(scene.positions.size());
+            scene.positions.push_back(position);
+        }
+        return target;
+    };
+
+    for (const tinyobj::shape_t& shape : reader.GetShapes()) {
+        const tinyobj::mesh_t& mesh = shape.mesh;
+        std::size_t offset = 0;
+        for (std::size_t face = 0; face < mesh.num_face_vertices.size(); ++face) {
+            const std::size_t corners = mesh.num_face_vertices[face];
+            if (offset + corners > mesh.indices.size()) {
+                throw fail("inconsistent face data in shape " + shape.name);
+            }
+            const std::uint32_t material =
+                material_index(face < mesh.material_ids.size() ? mesh.material_ids[face] : -1);
+            for (std::size_t k = 1; k + 1 < corners; ++k) {
+                scene.indices.push_back(vertex(mesh.indices[offset]));
+                scene.indices.push_back(vertex(mesh.indices[offset + k]));
+                scene.indices.push_back(vertex(mesh.indices[offset + k + 1]));
+                if (scene.triangle_materials.size() >= unused) {
+                    throw fail("too many triangles");
+                }
+                scene.triangle_materials.push_back(material);
+            }
+            offset += corners;
+        }
+    }
+    if (scene.triangle_materials.empty()) {
+        throw fail("it contains no triangles");
+    }
+    return scene;
+}
+
+CameraSetup frame_bounds(const Scene& scene) {
+    CameraSetup camera;
+    camera.up = {0.0f, 1.0f, 0.0f};
+    camera.fov_degrees = 40.0f;
+    if (scene.positions.empty()) {
+        return camera;
+    }
+    glm::vec3 lower{std::numeric_limits<float>::max()};
+    glm::vec3 upper{std::numeric_limits<float>::lowest()};
+    for (const glm::vec3& position : scene.positions) {
+        lower = glm::min(lower, position);
+        upper = glm::max(upper, position);
+    }
+    const glm::vec3 centre = 0.5f * (lower + upper);
+    float radius = 0.5f * glm::length(upper - lower);
+    if (!(radius > 0.0f)) {
+        radius = 1.0f;
+    }
+    const float half_fov = 0.5f * camera.fov_degrees * std::numbers::pi_v<float> / 180.0f;
+    const float distance = 1.05f * radius / std::sin(half_fov);
+    camera.look_at = centre;
+    camera.look_from = centre + glm::vec3{0.0f, 0.0f, distance};
+    return camera;
+}
+
+} // namespace pt

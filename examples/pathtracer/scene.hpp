@@ -1,0 +1,72 @@
+// Scene description of the example renderer: triangles with diffuse materials, some emissive,
+// and an optional suggested camera. Built in (Cornell box, procedural many lights) or loaded
+// from Wavefront OBJ/MTL.
+#pragma once
+
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace pt {
+
+/// A diffuse material: reflectance and emitted radiance (both linear RGB).
+struct Material {
+    std::string name;
+    glm::vec3 albedo{0.8f};
+    glm::vec3 emission{0.0f};
+
+    bool is_emissive() const { return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f; }
+};
+
+/// Where the camera looks from, at, and its vertical field of view.
+struct CameraSetup {
+    glm::vec3 look_from{0.0f, 0.0f, 1.0f};
+    glm::vec3 look_at{0.0f};
+    glm::vec3 up{0.0f, 1.0f, 0.0f};
+    float fov_degrees = 40.0f;
+};
+
+/// Indexed triangles, one material per triangle. Emissive triangles are one-sided: they emit
+/// on the side their geometric normal points to, normal = normalize(cross(b - a, c - a)).
+struct Scene {
+    std::string name;
+    std::vector<glm::vec3> positions;
+    std::vector<std::uint32_t> indices; ///< Three per triangle.
+    std::vector<std::uint32_t> triangle_materials;
+    std::vector<Material> materials;
+    std::optional<CameraSetup> camera; ///< Suggested camera; framed from the bounds otherwise.
+
+    std::uint32_t triangle_count() const {
+        return static_cast<std::uint32_t>(triangle_materials.size());
+    }
+};
+
+/// A scene that cannot be built or loaded; `what()` is a one-line message for the user.
+struct SceneError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+/// The classic Cornell box with its published measured geometry (millimetres), the usual RGB
+/// reflectances and light, and the published camera.
+Scene make_cornell_box();
+
+/// A floor lit by `light_count` small emissive quads (two triangles each) floating above it,
+/// with colours and intensities drawn from `seed`; for light-count scaling measurements.
+/// Throws SceneError for a count of 0 or above 10 million.
+Scene make_many_lights(std::uint32_t light_count, std::uint64_t seed);
+
+/// Wavefront OBJ with its MTL files (tinyobjloader): `Kd` is the diffuse albedo, `Ke` the
+/// emitted radiance; other MTL properties are ignored. Polygons are triangulated. Throws
+/// SceneError with a one-line message for a missing or malformed file, or a scene without
+/// triangles.
+Scene load_obj(const std::filesystem::path& path);
+
+/// A camera that frames the scene's bounding box from the front (+z), for scenes without one.
+CameraSetup frame_bounds(const Scene& scene);
+
+} // namespace pt
