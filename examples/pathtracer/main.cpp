@@ -101,6 +101,9 @@ int main(int argc, char** argv) {
                    "frame, so temporal reuse goes through real reprojection")
         ->transform(CLI::CheckedTransformer(motions, CLI::ignore_case).description(""))
         ->default_str("none");
+    app.add_option("--antialias", settings.antialias,
+                   "Jitter primary rays inside the pixel (true/false); off, every method sees "
+                   "pixel centres and the RMSE measures lighting noise only");
     app.add_option("--seed", settings.seed, "Seed of every random number");
     app.add_option("--threads", settings.threads, "Worker threads (0: all cores)");
     app.add_option("--out", options.out, "Output image: .png (tone-mapped), .exr or .pfm (linear)");
@@ -109,7 +112,8 @@ int main(int argc, char** argv) {
     app.add_option("--reference", options.reference,
                    "Reference image (.exr or .pfm) for the RMSE after every frame");
     app.add_option("--csv", options.csv,
-                   "CSV of frame, rmse, frame_ms, elapsed_ms and the phase timings");
+                   "CSV of frame, rmse (accumulated image), frame_rmse (last frame alone), "
+                   "frame_ms, elapsed_ms and the phase timings");
     // The library's parameters.
     app.add_option("--candidates", settings.candidates, "RIS candidates per pixel (M)")
         ->check(CLI::Range(1u, 4096u));
@@ -193,8 +197,8 @@ int main(int argc, char** argv) {
             csv.open(options.csv);
             if (!csv)
                 fail("cannot write " + options.csv);
-            csv << "frame,rmse,frame_ms,elapsed_ms,primary_ms,photons_ms,candidates_ms,temporal_ms,"
-                   "spatial_ms,shading_ms\n";
+            csv << "frame,rmse,frame_rmse,frame_ms,elapsed_ms,primary_ms,photons_ms,candidates_ms,"
+                   "temporal_ms,spatial_ms,shading_ms\n";
         }
 
         pt::Renderer renderer(scene, settings);
@@ -206,18 +210,20 @@ int main(int argc, char** argv) {
         for (std::uint32_t f = 0; f < options.frames; ++f) {
             const pt::FrameTimings t = renderer.render_frame();
             elapsed += t.total;
-            std::string error;
-            if (reference)
+            std::string error, frame_error;
+            if (reference) {
                 error = std::to_string(pt::rmse(renderer.accumulated(), *reference));
+                frame_error = std::to_string(pt::rmse(renderer.last_frame(), *reference));
+            }
             std::printf("frame %u: %.1f ms (primary %.1f, photons %.1f, candidates %.1f, temporal "
                         "%.1f, spatial %.1f, shading %.1f)%s%s\n",
                         f + 1, t.total, t.primary, t.photons, t.candidates, t.temporal, t.spatial,
                         t.shading, reference ? " rmse " : "", error.c_str());
             std::fflush(stdout);
             if (csv)
-                csv << f + 1 << ',' << error << ',' << t.total << ',' << elapsed << ',' << t.primary
-                    << ',' << t.photons << ',' << t.candidates << ',' << t.temporal << ','
-                    << t.spatial << ',' << t.shading << '\n';
+                csv << f + 1 << ',' << error << ',' << frame_error << ',' << t.total << ','
+                    << elapsed << ',' << t.primary << ',' << t.photons << ',' << t.candidates << ','
+                    << t.temporal << ',' << t.spatial << ',' << t.shading << '\n';
             if (interactive)
                 progress(f + 1, options.frames, t.total);
         }

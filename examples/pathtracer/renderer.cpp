@@ -67,7 +67,6 @@ struct Renderer::Impl {
 
     std::vector<GSurface> surfaces, previous_surfaces;
     std::vector<Reservoir> reservoirs, previous_reservoirs, scratch;
-    std::vector<glm::vec3> frame_image;
 
     explicit Impl(const Renderer& renderer)
         : r(renderer),
@@ -106,8 +105,9 @@ struct Renderer::Impl {
     }
 
     GSurface primary(std::uint32_t x, std::uint32_t y, restir::Pcg32& rng) const {
-        const float jx = next_float(rng);
-        const float jy = next_float(rng);
+        // Pixel centres, or a random point of the pixel with antialiasing.
+        const float jx = r.settings_.antialias ? next_float(rng) : 0.5f;
+        const float jy = r.settings_.antialias ? next_float(rng) : 0.5f;
         const glm::vec3 direction =
             camera.direction({static_cast<float>(x) + jx, static_cast<float>(y) + jy});
         const Hit hit = r.rays_.closest_hit(camera.position(), direction);
@@ -264,7 +264,7 @@ struct Renderer::Impl {
 
 Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
     : scene_(scene), settings_(settings), rays_(scene), emitters_(scene),
-      accumulated_(settings.width, settings.height),
+      accumulated_(settings.width, settings.height), frame_image_(settings.width, settings.height),
       sum_(std::size_t{settings.width} * settings.height, glm::dvec3(0.0)) {
     if (emitters_.light_count() == 0)
         throw SceneError("scene '" + scene.name +
@@ -324,7 +324,6 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
     const std::size_t pixels = std::size_t{settings.width} * settings.height;
     im.surfaces.resize(pixels);
     im.previous_surfaces.resize(pixels);
-    im.frame_image.resize(pixels);
     if (settings.method == Method::restir) {
         im.reservoirs.resize(pixels);
         im.previous_reservoirs.resize(pixels);
@@ -458,12 +457,12 @@ FrameTimings Renderer::render_frame() {
                     color += im.path_radiance(s, rng, false, true);
                 }
             }
-            im.frame_image[i] = color;
+            frame_image_.pixels[i] = color;
         });
         t.shading = milliseconds_since(start);
     } else {
         // uniform, ris, reference: independent samples, spp per frame.
-        std::fill(im.frame_image.begin(), im.frame_image.end(), glm::vec3(0.0f));
+        std::fill(frame_image_.pixels.begin(), frame_image_.pixels.end(), glm::vec3(0.0f));
         for (std::uint32_t sample = 0; sample < rs.spp; ++sample) {
             const std::uint32_t index = frame * rs.spp + sample;
             auto start = Clock::now();
@@ -496,7 +495,7 @@ FrameTimings Renderer::render_frame() {
                 }
                 if (gi_path && rs.method != Method::reference)
                     color += im.path_radiance(s, rng, false, true);
-                im.frame_image[i] += color / static_cast<float>(rs.spp);
+                frame_image_.pixels[i] += color / static_cast<float>(rs.spp);
             });
             t.shading += milliseconds_since(start);
         }
@@ -505,7 +504,7 @@ FrameTimings Renderer::render_frame() {
     ++frame_;
     const double inverse = 1.0 / frame_;
     for (std::size_t i = 0; i < sum_.size(); ++i) {
-        sum_[i] += glm::dvec3(im.frame_image[i]);
+        sum_[i] += glm::dvec3(frame_image_.pixels[i]);
         accumulated_.pixels[i] = glm::vec3(sum_[i] * inverse);
     }
     t.total = milliseconds_since(frame_start);

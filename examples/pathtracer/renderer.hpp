@@ -41,6 +41,8 @@ struct RenderSettings {
     CameraSetup camera{};
     CameraMotion motion = CameraMotion::none;
     std::uint32_t threads = 0; ///< 0: all hardware threads.
+    bool antialias = false;    ///< Jitter primary rays in the pixel (off: pixel centres, so
+                               ///< that error measurements see lighting noise only).
     // Library parameters.
     std::uint32_t candidates = 32;
     std::uint32_t neighbours = 5;
@@ -76,6 +78,8 @@ public:
 
     /// Average of the frames rendered so far.
     const Image& accumulated() const { return accumulated_; }
+    /// The last frame alone.
+    const Image& last_frame() const { return frame_image_; }
     std::uint32_t frames_rendered() const { return frame_; }
     std::size_t vpl_count() const { return vpls_.size(); }
     std::uint32_t emitter_count() const { return emitters_.light_count(); }
@@ -92,6 +96,7 @@ private:
     double photon_ms_ = 0.0;
     std::unique_ptr<Impl> impl_;
     Image accumulated_;
+    Image frame_image_;
     std::vector<glm::dvec3> sum_;
     std::uint32_t frame_ = 0;
 };
