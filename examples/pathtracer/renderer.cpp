@@ -17,7 +17,6 @@ namespace {
 
 constexpr float inv_pi = 0.3183098861837907f;
 
-float luminance(glm::vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 float max_component(glm::vec3 c) { return std::max(c.x, std::max(c.y, c.z)); }
 
 /// A G-buffer texel: the primary hit of a pixel. Satisfies restir::Surface.
@@ -78,8 +77,12 @@ struct Renderer::Impl {
         return s.albedo * inv_pi *
                restir::unshadowed_irradiance(light, s.position, s.normal, falloff);
     }
+    // p-hat: the unshadowed reflected radiance summed over the channels. (Luminance would
+    // weigh blue 0.07: a saturated blue light would then be drawn 14 times too rarely for its
+    // blue channel, and show as fireflies in every channel-wise error measure.)
     float target(const restir::LightSampleRef& ref, const GSurface& s) const {
-        return luminance(reflected(s, lights.sample_point(ref.light_id, ref.uv)));
+        const glm::vec3 f = reflected(s, lights.sample_point(ref.light_id, ref.uv));
+        return f.x + f.y + f.z;
     }
     restir::LightVisibility<Unified, EmbreeScene> visibility() const {
         return {&lights, &r.rays_, ray_offset};
