@@ -1,0 +1,150 @@
+// restir-render's command line: bad input gives one line on stderr and exit status 2, never a
+// crash; good input writes the image and the CSV.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Outcome {
+    int status = -1;
+    std::string err;
+    std::string out;
+};
+
+fs::path scratch_dir() {
+    const fs::path dir = fs::temp_directory_path() / "restir-cli-test";
+    fs::create_directories(dir);
+    return dir;
+}
+
+std::string slurp(const fs::path& path) {
+    std::ifstream in(path);
+    std::stringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
+Outcome run(const std::string& arguments) {
+    const fs::path dir = scratch_dir();
+    const std::string command = std::string(RESTIR_RENDER_EXECUTABLE) + " " + arguments + " > " +
+                                (dir / "stdout").string() + " 2> " + (dir / "stderr").string();
+    const int raw = std::system(command.c_str());
+    Outcome r;
+    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    r.err = slurp(dir / "stderr");
+    r.out = slurp(dir / "stdout");
+    return r;
+}
+
+// A fast render of the built-in box, plus `extra`.
+std::string small(const std::string& extra) {
+    return "--width 8 --height 8 --frames 1 --vpls 200 --out " +
+           (scratch_dir() / "small.png").string() + " " + extra;
+}
+
+void expect_one_line_error(const std::string& arguments, const std::string& needle) {
+    const Outcome r = run(arguments);
+    EXPECT_EQ(r.status, 2) << arguments << "\n" << r.err;
+    EXPECT_EQ(r.err.rfind("restir-render: error: ", 0), 0u) << arguments << "\n" << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << arguments << "\n" << r.err;
+    EXPECT_NE(r.err.find(needle), std::string::npos) << arguments << "\n" << r.err;
+}
+
+TEST(Cli, HelpDocumentsEveryFlagWithItsDefault) {
+    const Outcome r = run("--help");
+    EXPECT_EQ(r.status, 0);
+    for (const char* flag : {"--scene",       "--lights",
+                             "--method",      "--gi",
+                             "--spp",         "--frames",
+                             "--width",       "--height",
+                             "--look-from",   "--look-at",
+                             "--fov",         "--seed",
+                             "--threads",     "--out",
+                             "--reference",   "--csv",
+                             "--candidates",  "--neighbours",
+                             "--radius",      "--spatial-passes",
+                             "--history-cap", "--bias-correction",
+                             "--vpls",        "--attenuation-radius"})
+        EXPECT_NE(r.out.find(flag), std::string::npos) << flag;
+    EXPECT_NE(r.out.find("restir"), std::string::npos);
+}
+
+TEST(Cli, BadInputIsOneLineAndStatusTwo) {
+    const fs::path dir = scratch_dir();
+    expect_one_line_error(small("--no-such-flag"), "--no-such-flag");
+    expect_one_line_error(small("--method fastest"), "fastest");
+    expect_one_line_error(small("--gi sometimes"), "sometimes");
+    expect_one_line_error("--width 0 --out x.png", "width");
+    expect_one_line_error(small("--frames -3"), "frames");
+    expect_one_line_error(small("--look-from 1,2"), "look-from");
+    expect_one_line_error(small("--method restir --spp 4"), "--frames");
+    expect_one_line_error(small("--scene " + (dir / "missing.obj").string()), "missing.obj");
+
+    std::ofstream(dir / "broken.obj") << "v 0 0 0\nf 1 2 3\n";
+    expect_one_line_error(small("--scene " + (dir / "broken.obj").string()), "broken.obj");
+    std::ofstream(dir / "dark.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    expect_one_line_error(small("--scene " + (dir / "dark.obj").string()), "no emitters");
+
+    expect_one_line_error(small("--reference " + (dir / "missing.exr").string()), "missing.exr");
+    expect_one_line_error(
+        "--width 8 --height 8 --frames 1 --vpls 200 --out " + (dir / "image.bmp").string(), ".bmp");
+}
+
+TEST(Cli, WritesTheImageTheCsvAndMeasuresAgainstAReference) {
+    const fs::path dir = scratch_dir();
+    const fs::path reference = dir / "reference.exr";
+    fs::remove(reference);
+    Outcome r =
+        run("--width 12 --height 12 --frames 1 --spp 16 --method reference --vpls 200 --out " +
+            reference.string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    ASSERT_TRUE(fs::exists(reference));
+
+    const fs::path csv = dir / "frames.csv";
+    r = run("--width 12 --height 12 --frames 3 --vpls 200 --out " + (dir / "restir.png").string() +
+            " --reference " + reference.string() + " --csv " + csv.string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_TRUE(fs::exists(dir / "restir.png"));
+    std::istringstream lines(slurp(csv));
+    std::string header, row;
+    std::getline(lines, header);
+    EXPECT_EQ(header.rfind("frame,rmse,", 0), 0u) << header;
+    EXPECT_NE(header.find("frame_ms"), std::string::npos);
+    int rows = 0;
+    while (std::getline(lines, row)) {
+        ++rows;
+        EXPECT_EQ(row.rfind(std::to_string(rows) + ",", 0), 0u) << row;
+        EXPECT_NE(row.find(",0."), std::string::npos) << "an RMSE in " << row;
+    }
+    EXPECT_EQ(rows, 3);
+
+    // A reference of another size is refused.
+    r = run("--width 10 --height 12 --frames 1 --vpls 200 --out " + (dir / "x.png").string() +
+            " --reference " + reference.string());
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.err.find("12x12"), std::string::npos) << r.err;
+}
+
+TEST(Cli, RendersTheSharedCornellBoxObj) {
+    const fs::path obj = fs::path(RESTIR_SHARED_SCENES) / "cornell-box.obj";
+    if (!fs::exists(obj))
+        GTEST_SKIP() << obj << " is not there";
+    const Outcome r = run("--scene " + obj.string() +
+                          " --width 16 --height 16 --frames 1 --vpls 500 "
+                          "--out " +
+                          (scratch_dir() / "obj.png").string());
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.out.find("2 emitters"), std::string::npos) << r.out;
+}
+
+} // namespace

@@ -1,0 +1,172 @@
+// End-to-end tests of the example renderer on tiny images: every method and GI mode runs,
+// ReSTIR beats RIS beats uniform sampling against a reference rendered here, the reference
+// path tracer converges to the analytic radiance of a furnace, and images do not depend on
+// the thread count.
+#include "image_io.hpp"
+#include "renderer.hpp"
+#include "scene.hpp"
+
+#include "support/statistics.hpp"
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <utility>
+#include <vector>
+
+namespace {
+
+using pt::GlobalIllumination;
+using pt::Method;
+
+pt::RenderSettings tiny(const pt::Scene& scene, std::uint32_t size) {
+    pt::RenderSettings s;
+    s.width = size;
+    s.height = size;
+    s.camera = *scene.camera;
+    s.vpls = 4000;
+    s.radius = 4.0f; // neighbours within a few pixels of these tiny images
+    s.threads = 2;
+    return s;
+}
+
+pt::Image render(const pt::Scene& scene, const pt::RenderSettings& settings, std::uint32_t frames) {
+    pt::Renderer renderer(scene, settings);
+    for (std::uint32_t f = 0; f < frames; ++f)
+        renderer.render_frame();
+    return renderer.accumulated();
+}
+
+TEST(Renderer, EveryMethodAndIndirectModeGivesAFiniteLitImage) {
+    const pt::Scene scene = pt::make_cornell_box();
+    for (Method method : {Method::uniform, Method::ris, Method::restir, Method::reference})
+        for (GlobalIllumination gi :
+             {GlobalIllumination::none, GlobalIllumination::vpl, GlobalIllumination::path}) {
+            pt::RenderSettings s = tiny(scene, 16);
+            s.method = method;
+            s.gi = gi;
+            const pt::Image image = render(scene, s, 2);
+            double sum = 0.0;
+            for (const glm::vec3& p : image.pixels)
+                for (int c = 0; c < 3; ++c) {
+                    ASSERT_TRUE(std::isfinite(p[c]) && p[c] >= 0.0f)
+                        << static_cast<int>(method) << "/" << static_cast<int>(gi);
+                    sum += static_cast<double>(p[c]);
+                }
+            EXPECT_GT(sum, 0.0) << static_cast<int>(method) << "/" << static_cast<int>(gi);
+        }
+}
+
+// The reference study's comparison in miniature: Cornell box, direct + VPL light, RMSE of the
+// accumulated image after a few frames against a converged reference.
+TEST(Renderer, RestirBeatsRisBeatsUniformSampling) {
+    const pt::Scene scene = pt::make_cornell_box();
+    pt::RenderSettings s = tiny(scene, 40);
+    s.method = Method::reference;
+    s.spp = 1024;
+    const pt::Image reference = render(scene, s, 1);
+    s.spp = 1;
+    double error[3] = {0.0, 0.0, 0.0};
+    const Method methods[3] = {Method::uniform, Method::ris, Method::restir};
+    for (int m = 0; m < 3; ++m) {
+        s.method = methods[m];
+        error[m] = pt::rmse(render(scene, s, 3), reference);
+    }
+    std::printf("RMSE after 3 frames: uniform %.4f, ris %.4f, restir %.4f\n", error[0], error[1],
+                error[2]);
+    EXPECT_LT(error[2], error[1]);
+    EXPECT_LT(error[1], error[0]);
+}
+
+// A closed box whose walls all emit Le and reflect with albedo a: the radiance everywhere is
+// Le (1 + a) with direct light only, and Le / (1 - a) with all bounces.
+pt::Scene furnace(float albedo) {
+    pt::Scene scene;
+    scene.name = "furnace";
+    for (float x : {-1.0f, 1.0f})
+        for (float y : {-1.0f, 1.0f})
+            for (float z : {-1.0f, 1.0f})
+                scene.positions.push_back({x, y, z});
+    // Vertex index = 4 * (x > 0) + 2 * (y > 0) + (z > 0); quads in cyclic order, then each
+    // triangle wound so that its normal points into the box (towards the origin).
+    const std::uint32_t faces[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1},
+                                       {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
+    for (const auto& f : faces) {
+        for (const std::uint32_t* t : {&f[0], &f[1]}) {
+            std::uint32_t a = f[0], b = t[1], c = t[2];
+            const glm::vec3 pa = scene.positions[a], pb = scene.positions[b],
+                            pc = scene.positions[c];
+            if (glm::dot(glm::cross(pb - pa, pc - pa), -(pa + pb + pc)) < 0.0f)
+                std::swap(b, c);
+            for (std::uint32_t v : {a, b, c})
+                scene.indices.push_back(v);
+        }
+        scene.triangle_materials.push_back(0u);
+        scene.triangle_materials.push_back(0u);
+    }
+    scene.materials.push_back({"glowing", glm::vec3(albedo), glm::vec3(1.0f)});
+    scene.camera = pt::CameraSetup{{0.1f, 0.2f, 0.3f}, {0.0f, 0.0f, -1.0f}, {0, 1, 0}, 90.0f};
+    return scene;
+}
+
+TEST(Renderer, ReferenceConvergesToTheFurnaceRadiance) {
+    const float albedo = 0.5f;
+    const pt::Scene scene = furnace(albedo);
+    for (GlobalIllumination gi : {GlobalIllumination::none, GlobalIllumination::path}) {
+        pt::RenderSettings s = tiny(scene, 24);
+        s.method = Method::reference;
+        s.gi = gi;
+        s.max_depth = 64;
+        pt::Renderer renderer(scene, s);
+        restir::test::RunningStats radiance;
+        for (int frame = 0; frame < 8; ++frame) {
+            renderer.render_frame();
+            for (const glm::vec3& p : renderer.last_frame().pixels)
+                radiance.add(static_cast<double>(p.x + p.y + p.z) / 3.0);
+        }
+        const double expected = gi == GlobalIllumination::none
+                                    ? 1.0 + static_cast<double>(albedo)
+                                    : 1.0 / (1.0 - static_cast<double>(albedo));
+        std::printf("furnace, gi %d: mean %.5f +- %.5f, expected %.5f\n", static_cast<int>(gi),
+                    radiance.mean(), radiance.standard_error(), expected);
+        EXPECT_TRUE(restir::test::agrees_with(radiance, expected)) << static_cast<int>(gi);
+    }
+}
+
+TEST(Renderer, FurnaceWallsFaceInwards) {
+    // Guards the test above: with outward walls the camera would see no emission at all.
+    const pt::Scene scene = furnace(0.5f);
+    pt::RenderSettings s = tiny(scene, 8);
+    s.method = Method::uniform;
+    s.gi = GlobalIllumination::none;
+    for (const glm::vec3& p : render(scene, s, 1).pixels)
+        EXPECT_GE(p.x, 1.0f);
+}
+
+TEST(Renderer, ImagesDoNotDependOnTheThreadCount) {
+    const pt::Scene scene = pt::make_cornell_box();
+    for (Method method : {Method::restir, Method::ris, Method::reference}) {
+        pt::RenderSettings s = tiny(scene, 24);
+        s.method = method;
+        s.threads = 1;
+        const pt::Image one = render(scene, s, 3);
+        s.threads = 3;
+        const pt::Image three = render(scene, s, 3);
+        ASSERT_EQ(one.pixels.size(), three.pixels.size());
+        EXPECT_EQ(std::memcmp(one.pixels.data(), three.pixels.data(),
+                              one.pixels.size() * sizeof(glm::vec3)),
+                  0)
+            << static_cast<int>(method);
+    }
+}
+
+TEST(Renderer, SceneWithoutEmittersIsAnError) {
+    pt::Scene scene = furnace(0.5f);
+    scene.materials[0].emission = glm::vec3(0.0f);
+    EXPECT_THROW(pt::Renderer(scene, tiny(scene, 8)), pt::SceneError);
+}
+
+} // namespace
