@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds and runs every test: g++ and clang++ builds with warnings as errors (tests,
 # examples, benchmarks), the test suite again under AddressSanitizer + UBSan (a Debug build,
-# so assertions are on), and a CUDA check of the headers when nvcc is available.
+# so assertions are on; the renderer too), and a CUDA check of the headers when nvcc is available.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -41,5 +41,5 @@ build_and_test() { # NAME CMAKE-ARGS...
 
 build_and_test test-clang -DCMAKE_CXX_COMPILER=clang++
 build_and_test test-sanitize -DCMAKE_CXX_COMPILER=g++ -DRESTIR_SANITIZE=ON \
-  -DCMAKE_BUILD_TYPE=Debug -DRESTIR_BUILD_EXAMPLES=OFF -DRESTIR_BUILD_BENCHMARKS=OFF
+  -DCMAKE_BUILD_TYPE=Debug -DRESTIR_BUILD_BENCHMARKS=OFF
 build_and_test test-gcc -DCMAKE_CXX_COMPILER=g++
