@@ -37,8 +37,8 @@ struct Options {
 }
 
 void progress(std::uint32_t done, std::uint32_t total, double frame_ms) {
-    constexpr int width = 30;
-    const int filled = static_cast<int>(width * done / total);
+    constexpr std::size_t width = 30;
+    const std::size_t filled = width * done / total;
     std::fprintf(stderr, "\r[%s%s] frame %u/%u, %.1f ms", std::string(filled, '#').c_str(),
                  std::string(width - filled, '.').c_str(), done, total, frame_ms);
     if (done == total)
