@@ -1,6 +1,7 @@
 #include "renderer.hpp"
 
 #include <glm/geometric.hpp>
+#include <tbb/blocked_range.h>
 #include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -128,22 +129,52 @@ struct Renderer::Impl {
         return s;
     }
 
-    // A candidate light sample from the configured source.
-    restir::SourceSample<restir::LightSampleRef> draw_candidate(restir::Pcg32& rng) const {
-        restir::DiscreteSample c;
-        if (r.settings_.source == CandidateSource::power)
-            c = restir::sample_light(restir::PowerLightSampler{light_table.view()}, rng);
-        else
-            c = restir::sample_light(restir::UniformLightSampler{lights.light_count()}, rng);
-        const float u = next_float(rng);
-        const float v = next_float(rng);
-        return {{c.index, {u, v}}, c.pmf};
+    // Presampled light tiles, refilled for every frame (and sample): candidates come from one
+    // tile per 8 x 8 pixel block, which stays in cache.
+    static constexpr std::uint32_t tile_count = 256;
+    static constexpr std::uint32_t tile_size = 256;
+    std::vector<restir::PresampledLight> tile_entries;
+    restir::LightTilesView tiles;
+
+    void fill_tiles(std::uint32_t frame_index) {
+        tile_entries.resize(std::size_t{tile_count} * tile_size);
+        const restir::PowerLightSampler power{light_table.view()};
+        const restir::UniformLightSampler uniform{lights.light_count()};
+        const std::uint64_t seed = r.settings_.seed;
+        arena.execute([&] {
+            tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0u, tile_count * tile_size, 256u),
+                              [&](const tbb::blocked_range<std::uint32_t>& range) {
+                                  for (std::uint32_t i = range.begin(); i < range.end(); ++i) {
+                                      restir::Pcg32 rng =
+                                          restir::make_pixel_rng(i, frame_index, 50u, seed);
+                                      tile_entries[i] =
+                                          r.settings_.source == CandidateSource::power
+                                              ? restir::presample_light(power, lights, rng)
+                                              : restir::presample_light(uniform, lights, rng);
+                                  }
+                              });
+        });
+        tiles = {tile_entries.data(), tile_count, tile_size};
     }
 
-    Reservoir initial_reservoir(const GSurface& s, restir::Pcg32& rng) const {
-        return restir::resample_ris(
-            rng, r.settings_.candidates, [&](restir::Pcg32& g) { return draw_candidate(g); },
-            [&](const restir::LightSampleRef& ref) { return target(ref, s); });
+    // RIS over candidates from the pixel block's tile (Alg. 3 of Bitterli et al. 2020).
+    Reservoir initial_reservoir(std::uint32_t x, std::uint32_t y, std::uint32_t frame_index,
+                                const GSurface& s, restir::Pcg32& rng) const {
+        const std::uint32_t blocks_per_row = (r.settings_.width + 15u) / 16u;
+        const std::uint32_t tile =
+            tiles.tile_for(x / 16u + (y / 16u) * blocks_per_row, frame_index);
+        const restir::PresampledLight* entries = tiles.entries + std::size_t{tile} * tile_size;
+        const auto picked = restir::resample_ris(
+            rng, r.settings_.candidates,
+            [&](restir::Pcg32& g) {
+                const std::uint32_t index = restir::uniform_index(next_float(g), tile_size);
+                return restir::SourceSample<std::uint32_t>{index, entries[index].pdf};
+            },
+            [&](std::uint32_t index) {
+                const glm::vec3 f = reflected(s, entries[index].point);
+                return f.x + f.y + f.z;
+            });
+        return picked.with_sample(entries[picked.sample].reference);
     }
 
     // f(y) W without visibility, for a reservoir whose sample is known to be visible.
@@ -373,14 +404,15 @@ FrameTimings Renderer::render_frame() {
         // Initial candidates (and their visibility, for visibility reuse).
         start = Clock::now();
         std::swap(im.reservoirs, im.previous_reservoirs);
-        im.for_each_pixel([&](std::uint32_t, std::uint32_t, std::uint32_t i) {
+        im.fill_tiles(frame);
+        im.for_each_pixel([&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
             const GSurface& s = im.surfaces[i];
             Reservoir& reservoir = im.reservoirs[i];
             reservoir = Reservoir{};
             if (!s.valid)
                 return;
             restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 1u, seed);
-            reservoir = im.initial_reservoir(s, rng);
+            reservoir = im.initial_reservoir(x, y, frame, s, rng);
             if (rs.visibility_reuse)
                 restir::apply_visibility(reservoir, s, im.visibility());
         });
@@ -475,7 +507,9 @@ FrameTimings Renderer::render_frame() {
             });
             t.primary += milliseconds_since(start);
             start = Clock::now();
-            im.for_each_pixel([&](std::uint32_t, std::uint32_t, std::uint32_t i) {
+            if (rs.method == Method::ris)
+                im.fill_tiles(index);
+            im.for_each_pixel([&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
                 const GSurface& s = im.surfaces[i];
                 if (!s.valid)
                     return;
@@ -486,7 +520,7 @@ FrameTimings Renderer::render_frame() {
                     color += im.uniform_estimate(s, rng);
                     break;
                 case Method::ris:
-                    color += im.shade(im.initial_reservoir(s, rng), s);
+                    color += im.shade(im.initial_reservoir(x, y, index, s, rng), s);
                     break;
                 case Method::reference:
                     color += im.path_radiance(s, rng, true, gi_path);

@@ -25,6 +25,7 @@
 #include "restir/reuse/temporal.hpp"
 #include "restir/reuse/visibility.hpp"
 #include "restir/sampling/alias_table.hpp"
+#include "restir/sampling/light_tiles.hpp"
 #include "restir/sampling/ris.hpp"
 #include "restir/vpl/emitter_points.hpp"
 #include "restir/vpl/photon_shooter.hpp"

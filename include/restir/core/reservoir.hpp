@@ -103,6 +103,19 @@ struct Reservoir {
         candidate_count = cap;
     }
 
+    /// The same reservoir holding `other_sample` instead of its sample: for resampling over a
+    /// cheap handle (an index into presampled lights) and storing what the handle names.
+    template <class Other>
+    RESTIR_HOST_DEVICE constexpr Reservoir<Other> with_sample(const Other& other_sample) const {
+        Reservoir<Other> result;
+        result.sample = other_sample;
+        result.weight_sum = weight_sum;
+        result.target_value = target_value;
+        result.contribution_weight = contribution_weight;
+        result.candidate_count = candidate_count;
+        return result;
+    }
+
     /// True when a candidate with positive weight has been selected.
     RESTIR_HOST_DEVICE constexpr bool has_sample() const noexcept {
         return weight_sum > 0.0f && target_value > 0.0f;

@@ -48,7 +48,7 @@ RESTIR_HOST_DEVICE glm::vec3 unshadowed_irradiance(const P& light, glm::vec3 pos
     if (!(distance_squared > 0.0f))
         return glm::vec3(0.0f);
     const float distance = std::sqrt(distance_squared);
-    const glm::vec3 direction = offset / distance; // receiver -> light
+    const glm::vec3 direction = offset * (1.0f / distance); // receiver -> light, one division
     const float cos_receiver = max_of(0.0f, glm::dot(normal, direction));
     const float cos_light = emission_cosine(light.normal, -direction);
     const float geometry = cos_receiver * cos_light;
