@@ -25,7 +25,7 @@ struct Options {
     std::vector<float> look_from, look_at;
     std::optional<float> fov;
     std::uint32_t frames = 16;
-    std::string out = "out/render.png";
+    std::vector<std::string> outs{"out/render.png"};
     std::optional<float> exposure;
     std::string reference;
     std::string csv;
@@ -106,7 +106,9 @@ int main(int argc, char** argv) {
                    "pixel centres and the RMSE measures lighting noise only");
     app.add_option("--seed", settings.seed, "Seed of every random number");
     app.add_option("--threads", settings.threads, "Worker threads (0: all cores)");
-    app.add_option("--out", options.out, "Output image: .png (tone-mapped), .exr or .pfm (linear)");
+    app.add_option("--out", options.outs,
+                   "Output image(s): .png (tone-mapped), .exr or .pfm (linear); repeat the flag "
+                   "for several");
     app.add_option("--exposure", options.exposure,
                    "PNG exposure in stops (default: automatic, average luminance to 0.18)");
     app.add_option("--reference", options.reference,
@@ -229,8 +231,9 @@ int main(int argc, char** argv) {
         }
 
         const pt::Image& image = renderer.accumulated();
-        pt::write_image(options.out, image,
-                        options.exposure ? *options.exposure : pt::auto_exposure(image));
+        const float exposure = options.exposure ? *options.exposure : pt::auto_exposure(image);
+        for (const std::string& out : options.outs)
+            pt::write_image(out, image, exposure);
         bool black = true;
         for (const glm::vec3& p : image.pixels)
             if (p.x > 0.0f || p.y > 0.0f || p.z > 0.0f) {
@@ -240,7 +243,8 @@ int main(int argc, char** argv) {
         if (black)
             std::cerr << "restir-render: warning: the image is black: does the camera see the "
                          "lit scene (--look-from, --look-at)?\n";
-        std::printf("wrote %s\n", options.out.c_str());
+        for (const std::string& out : options.outs)
+            std::printf("wrote %s (exposure %.2f)\n", out.c_str(), static_cast<double>(exposure));
     } catch (const pt::SceneError& e) {
         fail(e.what());
     } catch (const pt::ImageError& e) {
