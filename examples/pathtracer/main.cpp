@@ -56,7 +56,10 @@ int main(int argc, char** argv) {
 
     CLI::App app{"restir-render: ReSTIR, RIS, uniform light sampling and VPL global illumination "
                  "on Embree, with error measurement against a reference"};
-    app.option_defaults()->always_capture_default();
+    // A flag given twice keeps its last value, so that wrappers can set defaults that the
+    // user's arguments override (scripts/render.sh).
+    app.option_defaults()->always_capture_default()->multi_option_policy(
+        CLI::MultiOptionPolicy::TakeLast);
     app.add_option("--scene", options.scene,
                    "cornell (built in), many-lights (procedural, see --lights) or a Wavefront "
                    "FILE.obj");
@@ -108,7 +111,8 @@ int main(int argc, char** argv) {
     app.add_option("--threads", settings.threads, "Worker threads (0: all cores)");
     app.add_option("--out", options.outs,
                    "Output image(s): .png (tone-mapped), .exr or .pfm (linear); repeat the flag "
-                   "for several");
+                   "for several")
+        ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
     app.add_option("--exposure", options.exposure,
                    "PNG exposure in stops (default: automatic, average luminance to 0.18)");
     app.add_option("--reference", options.reference,
