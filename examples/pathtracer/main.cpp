@@ -180,7 +180,10 @@ int main(int argc, char** argv) {
         else
             scene = pt::load_obj(options.scene);
 
-        settings.camera = scene.camera ? *scene.camera : pt::frame_bounds(scene);
+        settings.camera = scene.camera
+                              ? *scene.camera
+                              : pt::frame_bounds(scene, static_cast<float>(settings.width) /
+                                                            static_cast<float>(settings.height));
         if (!options.look_from.empty())
             settings.camera.look_from = {options.look_from[0], options.look_from[1],
                                          options.look_from[2]};

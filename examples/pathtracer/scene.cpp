@@ -394,7 +394,7 @@ Scene load_obj(const std::filesystem::path& path) {
     return scene;
 }
 
-CameraSetup frame_bounds(const Scene& scene) {
+CameraSetup frame_bounds(const Scene& scene, float aspect) {
     CameraSetup camera;
     camera.up = {0.0f, 1.0f, 0.0f};
     camera.fov_degrees = 40.0f;
@@ -408,14 +408,12 @@ CameraSetup frame_bounds(const Scene& scene) {
         upper = glm::max(upper, position);
     }
     const glm::vec3 centre = 0.5f * (lower + upper);
-    float radius = 0.5f * glm::length(upper - lower);
-    if (!(radius > 0.0f)) {
-        radius = 1.0f;
-    }
-    const float half_fov = 0.5f * camera.fov_degrees * std::numbers::pi_v<float> / 180.0f;
-    const float distance = 1.05f * radius / std::sin(half_fov);
+    const glm::vec3 half = glm::max(0.5f * (upper - lower), glm::vec3(1e-6f));
+    // The box's front face (at z = upper.z) fills the view in its tighter direction.
+    const float tan_half = std::tan(0.5f * camera.fov_degrees * std::numbers::pi_v<float> / 180.0f);
+    const float fit = std::max(half.y / tan_half, half.x / (tan_half * std::max(aspect, 1e-3f)));
     camera.look_at = centre;
-    camera.look_from = centre + glm::vec3{0.0f, 0.0f, distance};
+    camera.look_from = centre + glm::vec3{0.0f, 0.0f, half.z + 1.02f * fit};
     return camera;
 }
 

@@ -66,7 +66,8 @@ Scene make_many_lights(std::uint32_t light_count, std::uint64_t seed);
 /// triangles.
 Scene load_obj(const std::filesystem::path& path);
 
-/// A camera that frames the scene's bounding box from the front (+z), for scenes without one.
-CameraSetup frame_bounds(const Scene& scene);
+/// A camera that looks at the scene's bounding box from the front (+z), for scenes without
+/// one: the box's front face fills an image of aspect ratio `aspect` (width / height).
+CameraSetup frame_bounds(const Scene& scene, float aspect);
 
 } // namespace pt
