@@ -55,7 +55,7 @@ awk -F, '
 
 bash scripts/plot-convergence.sh docs/images/convergence.png uniform="$dir/uniform.csv" \
   ris="$dir/ris.csv" restir="$dir/restir.csv"
-bash scripts/side-by-side.sh docs/images/side-by-side.png "uniform, 20 frames=$dir/uniform.png" \
+TILE_WIDTH=640 bash scripts/side-by-side.sh docs/images/side-by-side.jpg "uniform, 20 frames=$dir/uniform.png" \
   "RIS, 20 frames=$dir/ris.png" "ReSTIR, 20 frames=$dir/restir.png" \
   "reference, $reference_spp spp=$dir/reference.png"
-echo "wrote docs/images/convergence.png, docs/images/side-by-side.png, $dir/summary.txt"
+echo "wrote docs/images/convergence.png, docs/images/side-by-side.jpg, $dir/summary.txt"

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Places PNG images of the same size left to right, each with its label underneath, at their
-# own size (no resampling), using ImageMagick's montage.
-# Usage: scripts/side-by-side.sh OUT.png LABEL=IMAGE.png [LABEL=IMAGE.png ...]
+# Places PNG images of the same size left to right, each with its label underneath, using
+# ImageMagick's montage: at their own size, or scaled to TILE_WIDTH pixels wide when that
+# environment variable is set (to keep images for docs small).
+# Usage: [TILE_WIDTH=N] scripts/side-by-side.sh OUT.png|OUT.jpg LABEL=IMAGE.png [LABEL=IMAGE.png ...]
 set -euo pipefail
 
 usage() {
@@ -14,8 +15,9 @@ usage() {
 out=$1
 shift
 case "$out" in
-  *.png) ;;
-  *) usage "the output '$out' must end in .png" ;;
+  *.png) format=png ;;
+  *.jpg) format=jpg ;;
+  *) usage "the output '$out' must end in .png or .jpg" ;;
 esac
 
 labels=()
@@ -83,6 +85,8 @@ for i in "${!images[@]}"; do
 done
 
 mkdir -p "$(dirname "$out")"
-montage "${args[@]}" -tile "${#images[@]}x1" -geometry +6+6 -background white -fill black \
-  -font "$font" -pointsize 16 "png:$out"
+geometry=+6+6
+[ -n "${TILE_WIDTH:-}" ] && geometry="${TILE_WIDTH}x+6+6"
+montage "${args[@]}" -tile "${#images[@]}x1" -geometry "$geometry" -background white -fill black \
+  -font "$font" -pointsize 16 -quality 90 "$format:$out"
 echo "image: $out"

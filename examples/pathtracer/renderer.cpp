@@ -130,9 +130,10 @@ struct Renderer::Impl {
     }
 
     // Presampled light tiles, refilled for every frame (and sample): candidates come from one
-    // tile per 8 x 8 pixel block, which stays in cache.
+    // tile per 8 x 8 pixel block, which stays in cache. (Tiles of 256 lights for 16 x 16 blocks
+    // were 15 % faster but left visible block patterns: a block sees too few lights.)
     static constexpr std::uint32_t tile_count = 256;
-    static constexpr std::uint32_t tile_size = 256;
+    static constexpr std::uint32_t tile_size = 1024;
     std::vector<restir::PresampledLight> tile_entries;
     restir::LightTilesView tiles;
 
@@ -160,9 +161,8 @@ struct Renderer::Impl {
     // RIS over candidates from the pixel block's tile (Alg. 3 of Bitterli et al. 2020).
     Reservoir initial_reservoir(std::uint32_t x, std::uint32_t y, std::uint32_t frame_index,
                                 const GSurface& s, restir::Pcg32& rng) const {
-        const std::uint32_t blocks_per_row = (r.settings_.width + 15u) / 16u;
-        const std::uint32_t tile =
-            tiles.tile_for(x / 16u + (y / 16u) * blocks_per_row, frame_index);
+        const std::uint32_t blocks_per_row = (r.settings_.width + 7u) / 8u;
+        const std::uint32_t tile = tiles.tile_for(x / 8u + (y / 8u) * blocks_per_row, frame_index);
         const restir::PresampledLight* entries = tiles.entries + std::size_t{tile} * tile_size;
         const auto picked = restir::resample_ris(
             rng, r.settings_.candidates,
