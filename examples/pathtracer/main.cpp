@@ -15,6 +15,7 @@
 #include <optional>
 #include <string>
 #include <unistd.h>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -166,6 +167,11 @@ int main(int argc, char** argv) {
     } catch (const CLI::ParseError& e) {
         fail(std::string(e.what()) + " (see --help)");
     }
+    for (const auto& [name, values] :
+         {std::pair{"--look-from", &options.look_from}, std::pair{"--look-at", &options.look_at}})
+        if (!values->empty() && values->size() != 3)
+            fail(std::string(name) + " needs three numbers x,y,z, got " +
+                 std::to_string(values->size()));
     if (settings.method == pt::Method::restir && settings.spp != 1)
         fail("restir renders one sample per pixel per frame: use --frames instead of --spp");
     if (!options.reference.empty() && settings.motion != pt::CameraMotion::none)
