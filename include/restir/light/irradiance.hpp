@@ -51,14 +51,13 @@ RESTIR_HOST_DEVICE glm::vec3 unshadowed_irradiance(const P& light, glm::vec3 pos
     const glm::vec3 direction = offset * (1.0f / distance); // receiver -> light, one division
     const float cos_receiver = max_of(0.0f, glm::dot(normal, direction));
     const float cos_light = emission_cosine(light.normal, -direction);
+    // Both falloffs, then a select: candidates mix area lights and VPLs at random, and half of
+    // them face away, so branches here would mispredict often.
+    const float delta_falloff = attenuate(falloff.kind, distance, falloff.parameter);
+    const float area_falloff =
+        safe_divide(1.0f, distance_squared * static_cast<float>(light.area_pdf));
     const float geometry = cos_receiver * cos_light;
-    if (geometry == 0.0f)
-        return glm::vec3(0.0f);
-    if (light.is_delta)
-        return glm::vec3(light.radiance) *
-               (geometry * attenuate(falloff.kind, distance, falloff.parameter));
-    return glm::vec3(light.radiance) *
-           safe_divide(geometry, distance_squared * static_cast<float>(light.area_pdf));
+    return glm::vec3(light.radiance) * (geometry * (light.is_delta ? delta_falloff : area_falloff));
 }
 
 } // namespace restir
