@@ -126,8 +126,10 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1u, 4096u));
     app.add_option("--neighbours", settings.neighbours, "Spatial reuse neighbours (k)")
         ->check(CLI::Range(0u, restir::max_reuse_inputs - 1u));
-    app.add_option("--radius", settings.radius, "Spatial reuse radius in pixels")
-        ->check(CLI::Range(1.0f, 1000.0f));
+    app.add_option("--radius", settings.radius,
+                   "Spatial reuse radius in pixels (0: the paper's 30 px at 1080 rows, scaled "
+                   "to the image height, at least 3)")
+        ->check(CLI::Range(0.0f, 1000.0f));
     app.add_option("--spatial-passes", settings.spatial_passes, "Spatial reuse passes")
         ->check(CLI::Range(0u, 16u));
     app.add_option("--history-cap", settings.history_cap,

@@ -460,7 +460,9 @@ FrameTimings Renderer::render_frame() {
         restir::SpatialParams spatial = restir::default_spatial_params();
         spatial.reuse = reuse;
         spatial.neighbour_count = rs.neighbours;
-        spatial.radius = rs.radius;
+        spatial.radius = rs.radius > 0.0f
+                             ? rs.radius
+                             : std::max(3.0f, 30.0f * static_cast<float>(rs.height) / 1080.0f);
         for (std::uint32_t pass = 0; pass < rs.spatial_passes; ++pass) {
             const restir::ImageView<const Reservoir> input{im.reservoirs.data(), rs.width,
                                                            rs.height};

@@ -46,7 +46,8 @@ struct RenderSettings {
     // Library parameters.
     std::uint32_t candidates = 32;
     std::uint32_t neighbours = 5;
-    float radius = 30.0f;
+    float radius = 0.0f; ///< Spatial radius in pixels; 0: 30 px per 1080 rows (the paper's 30
+                         ///< at 1080p), at least 3.
     std::uint32_t spatial_passes = 1;
     std::uint32_t history_cap = 20;
     restir::BiasCorrection bias_correction = restir::BiasCorrection::pairwise;
