@@ -115,18 +115,7 @@ struct Renderer::Impl {
         const glm::vec3 direction =
             camera.direction({static_cast<float>(x) + jx, static_cast<float>(y) + jy});
         const Hit hit = r.rays_.closest_hit(camera.position(), direction);
-        GSurface s;
-        if (!hit.found)
-            return s;
-        const Material& m = r.scene_.materials[r.scene_.triangle_materials[hit.triangle]];
-        const bool front = glm::dot(hit.normal, direction) < 0.0f;
-        s.valid = true;
-        s.position = hit.position;
-        s.normal = front ? hit.normal : -hit.normal;
-        s.albedo = m.albedo;
-        s.emitted = front ? m.emission : glm::vec3(0.0f);
-        s.depth = hit.distance;
-        return s;
+        return hit.found ? surface_at(hit, direction) : GSurface{};
     }
 
     // Presampled light tiles, refilled for every frame (and sample): candidates come from one
@@ -240,13 +229,17 @@ struct Renderer::Impl {
         return reflected(s, lights.sample_point(ref.light_id, ref.uv)) / c.pmf;
     }
 
+    // The surface a ray travelling along `direction` found; emission only on an emitter's
+    // front side.
     GSurface surface_at(const Hit& hit, glm::vec3 direction) const {
         GSurface s;
         const Material& m = r.scene_.materials[r.scene_.triangle_materials[hit.triangle]];
+        const bool front = glm::dot(hit.normal, direction) < 0.0f;
         s.valid = true;
         s.position = hit.position;
-        s.normal = glm::dot(hit.normal, direction) < 0.0f ? hit.normal : -hit.normal;
+        s.normal = front ? hit.normal : -hit.normal;
         s.albedo = m.albedo;
+        s.emitted = front ? m.emission : glm::vec3(0.0f);
         s.depth = hit.distance;
         return s;
     }
