@@ -122,7 +122,7 @@ struct Renderer::Impl {
     // tile per 8 x 8 pixel block, which stays in cache. (Tiles of 256 lights for 16 x 16 blocks
     // were 15 % faster but left visible block patterns: a block sees too few lights.)
     static constexpr std::uint32_t tile_count = 256;
-    static constexpr std::uint32_t tile_size = 1024;
+    static constexpr std::uint32_t tile_size = 1024; // a power of two
     std::vector<restir::PresampledLight> tile_entries;
     restir::LightTilesView tiles;
 
@@ -153,11 +153,16 @@ struct Renderer::Impl {
         const std::uint32_t blocks_per_row = (r.settings_.width + 7u) / 8u;
         const std::uint32_t tile = tiles.tile_for(x / 8u + (y / 8u) * blocks_per_row, frame_index);
         const restir::PresampledLight* entries = tiles.entries + std::size_t{tile} * tile_size;
+        // Candidates walk the tile from a random start with a random odd stride: each one is a
+        // uniformly random entry (so its density is the entry's pdf), no entry repeats, and the
+        // walk needs two random numbers instead of one per candidate.
+        std::uint32_t walk = rng.next_uint() & (tile_size - 1u);
+        const std::uint32_t stride = rng.next_uint() | 1u;
         const auto picked = restir::resample_ris(
             rng, r.settings_.candidates,
-            [&](restir::Pcg32& g) {
-                const std::uint32_t index = restir::uniform_index(next_float(g), tile_size);
-                return restir::SourceSample<std::uint32_t>{index, entries[index].pdf};
+            [&](restir::Pcg32&) {
+                walk = (walk + stride) & (tile_size - 1u);
+                return restir::SourceSample<std::uint32_t>{walk, entries[walk].pdf};
             },
             [&](std::uint32_t index) {
                 const glm::vec3 f = reflected(s, entries[index].point);
