@@ -163,6 +163,31 @@ TEST(Renderer, ImagesDoNotDependOnTheThreadCount) {
     }
 }
 
+// With an orbiting camera, temporal reuse reprojects every frame into the previous camera. RIS
+// (no reuse) and ReSTIR are both unbiased estimates of the same frames, so the average
+// brightness of their images must agree within the spread measured over independent seeds.
+TEST(Renderer, RestirStaysUnbiasedUnderCameraMotion) {
+    const pt::Scene scene = pt::make_cornell_box();
+    pt::RenderSettings s = tiny(scene, 32);
+    s.motion = pt::CameraMotion::orbit;
+    s.gi = GlobalIllumination::none;
+    restir::test::RunningStats brightness[2];
+    const Method methods[2] = {Method::ris, Method::restir};
+    for (std::uint64_t seed = 1; seed <= 8; ++seed)
+        for (int m = 0; m < 2; ++m) {
+            s.method = methods[m];
+            s.seed = seed;
+            double sum = 0.0;
+            for (const glm::vec3& p : render(scene, s, 8).pixels)
+                sum += static_cast<double>(p.x + p.y + p.z);
+            brightness[m].add(sum);
+        }
+    const double difference = std::abs(brightness[1].mean() - brightness[0].mean());
+    const double error = std::sqrt(brightness[0].variance() / 8.0 + brightness[1].variance() / 8.0);
+    EXPECT_LT(difference, 4.0 * error)
+        << "RIS " << brightness[0].mean() << ", ReSTIR " << brightness[1].mean();
+}
+
 TEST(Renderer, SceneWithoutEmittersIsAnError) {
     pt::Scene scene = furnace(0.5f);
     scene.materials[0].emission = glm::vec3(0.0f);
