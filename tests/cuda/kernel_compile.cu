@@ -121,6 +121,22 @@ __global__ void photon_kernel(restir::PhotonSource source, restir::PhotonParams 
             .x;
 }
 
+__global__ void tile_kernel(restir::PresampledLight* entries, const glm::vec3* emitters,
+                            std::uint32_t emitter_count, const restir::AliasEntry* alias_entries,
+                            float* out) {
+    const auto i = static_cast<std::uint32_t>(blockIdx.x * blockDim.x + threadIdx.x);
+    restir::Pcg32 rng = restir::make_pixel_rng(i, 0u, 50u);
+    const PointEmitters lights{emitters, emitter_count};
+    const restir::PowerLightSampler sampler{restir::AliasTableView{alias_entries, emitter_count}};
+    entries[i] = restir::presample_light(sampler, lights, rng);
+    const restir::LightTilesView tiles{entries, 4u, 64u};
+    const restir::PresampledLight& e = tiles.draw(tiles.tile_for(i / 64u, 0u), next_float(rng));
+    restir::Reservoir<std::uint32_t> r;
+    r.stream(i, 1.0f, e.pdf, next_float(rng));
+    r.finalize();
+    out[i] = r.with_sample(e.reference).contribution_weight;
+}
+
 __global__ void reuse_kernel(const glm::vec3* light_positions, const GBufferTexel* texels,
                              const restir::Reservoir<restir::LightSampleRef>* previous,
                              restir::Reservoir<restir::LightSampleRef>* temporal_out,
