@@ -17,6 +17,8 @@
 // ray casting.
 #include "embree_scene.hpp"
 #include "lights.hpp"
+#include "ray_recording.hpp"
+#include "scatter.hpp"
 #include "scene.hpp"
 
 #include "restir/core/rng.hpp"
@@ -39,54 +41,13 @@ namespace {
 constexpr std::uint32_t kPhotons = 100'000u;
 constexpr std::uint32_t kMaxBounces = 8u;
 
-struct Ray {
-    glm::vec3 origin{0.0f};
-    glm::vec3 direction{0.0f};
-};
-
-// EmbreeScene that appends every ray it is asked to cast to `rays`.
-struct RecordingEmbree {
-    const pt::EmbreeScene* scene = nullptr;
-    std::vector<Ray>* rays = nullptr;
-
-    pt::Hit closest_hit(glm::vec3 origin, glm::vec3 direction) const {
-        rays->push_back({origin, direction});
-        return scene->closest_hit(origin, direction);
-    }
-};
-
-// The renderer's photon scatter hook: Lambertian with the hit material's albedo, sampled by
-// cosine about the normal facing the photon; emitters hold no VPL.
-struct Lambertian {
-    const pt::Scene* scene = nullptr;
-
-    restir::Scattering operator()(const pt::Hit& hit, glm::vec3 incoming,
-                                  restir::Pcg32& rng) const {
-        const pt::Material& m = scene->materials[scene->triangle_materials[hit.triangle]];
-        const glm::vec3 facing = glm::dot(hit.normal, incoming) < 0.0f ? hit.normal : -hit.normal;
-        const float u0 = restir::next_float(rng);
-        const float u1 = restir::next_float(rng);
-        return restir::Scattering{restir::sample_emission_direction(facing, u0, u1), m.albedo,
-                                  m.albedo, true, m.is_emissive()};
-    }
-};
-
-// Diagonal of the bounding box of the scene's vertices.
-float scene_size(const pt::Scene& scene) {
-    glm::vec3 low(std::numeric_limits<float>::max());
-    glm::vec3 high(-std::numeric_limits<float>::max());
-    for (const glm::vec3& p : scene.positions) {
-        low = glm::min(low, p);
-        high = glm::max(high, p);
-    }
-    return std::max(glm::length(high - low), 1e-6f);
-}
+using bench::Ray;
 
 restir::PhotonParams photon_params(const pt::Scene& scene) {
     restir::PhotonParams params = restir::default_photon_params();
     params.photon_count = kPhotons;
     params.max_bounces = kMaxBounces;
-    params.ray_offset = 1e-4f * scene_size(scene);
+    params.ray_offset = 1e-4f * pt::scene_size(scene);
     return params;
 }
 
@@ -95,7 +56,7 @@ struct CornellPhotons {
     pt::Scene scene = pt::make_cornell_box();
     pt::EmbreeScene rays{scene};
     pt::TriangleEmitters emitters{scene};
-    Lambertian scatter{&scene};
+    pt::LambertianScatter scatter{&scene};
     restir::PhotonParams params = photon_params(scene);
 };
 
@@ -109,7 +70,7 @@ const std::vector<Ray>& recorded_rays() {
     static const std::vector<Ray> rays = [] {
         const CornellPhotons& f = cornell();
         std::vector<Ray> r;
-        const RecordingEmbree query{&f.rays, &r};
+        const bench::RecordingQuery<pt::EmbreeScene> query{&f.rays, &r};
         restir::shoot_photons(f.emitters, query, f.scatter, f.params);
         return r;
     }();
@@ -137,15 +98,8 @@ BENCHMARK(BM_ShootPhotonsEmbree)->Unit(benchmark::kMillisecond);
 void BM_BareRaysEmbree(benchmark::State& state) {
     const CornellPhotons& f = cornell();
     const std::vector<Ray>& rays = recorded_rays();
-    for (auto _ : state) {
-        glm::vec3 sum{0.0f};
-        for (const Ray& ray : rays) {
-            const pt::Hit hit = f.rays.closest_hit(ray.origin, ray.direction);
-            if (hit.found)
-                sum += hit.position;
-        }
-        benchmark::DoNotOptimize(sum);
-    }
+    for (auto _ : state)
+        bench::cast_bare(f.rays, rays);
     state.SetItemsProcessed(state.iterations() * kPhotons);
     state.counters["rays_per_photon"] =
         static_cast<double>(rays.size()) / static_cast<double>(kPhotons);

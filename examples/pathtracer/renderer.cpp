@@ -1,5 +1,7 @@
 #include "renderer.hpp"
 
+#include "scatter.hpp"
+
 #include <glm/geometric.hpp>
 #include <tbb/blocked_range.h>
 #include <tbb/blocked_range2d.h>
@@ -304,12 +306,7 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
     impl_ = std::make_unique<Impl>(*this);
     Impl& im = *impl_;
 
-    glm::vec3 low(std::numeric_limits<float>::max()), high(-std::numeric_limits<float>::max());
-    for (const glm::vec3& p : scene.positions) {
-        low = glm::min(low, p);
-        high = glm::max(high, p);
-    }
-    im.scene_size = std::max(glm::length(high - low), 1e-6f);
+    im.scene_size = scene_size(scene);
     im.ray_offset = 1e-4f * im.scene_size;
     im.falloff = {restir::Attenuation::yuksel, settings.attenuation_radius > 0.0f
                                                    ? settings.attenuation_radius
@@ -323,13 +320,7 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
         params.max_bounces = settings.vpl_bounces;
         params.ray_offset = im.ray_offset;
         params.seed = settings.seed;
-        const auto scatter = [&scene](const Hit& hit, glm::vec3 incoming, restir::Pcg32& rng) {
-            const Material& m = scene.materials[scene.triangle_materials[hit.triangle]];
-            const glm::vec3 facing =
-                glm::dot(hit.normal, incoming) < 0.0f ? hit.normal : -hit.normal;
-            return restir::Scattering{sample_cosine(facing, rng), m.albedo, m.albedo, true,
-                                      m.is_emissive()};
-        };
+        const LambertianScatter scatter{&scene};
         const auto parallel_for = [&im](std::uint32_t count, auto&& body) {
             im.arena.execute(
                 [&] { tbb::parallel_for(0u, count, [&](std::uint32_t i) { body(i); }); });

@@ -394,6 +394,16 @@ Scene load_obj(const std::filesystem::path& path) {
     return scene;
 }
 
+float scene_size(const Scene& scene) {
+    glm::vec3 lower{std::numeric_limits<float>::max()};
+    glm::vec3 upper{std::numeric_limits<float>::lowest()};
+    for (const glm::vec3& position : scene.positions) {
+        lower = glm::min(lower, position);
+        upper = glm::max(upper, position);
+    }
+    return scene.positions.empty() ? 1e-6f : std::max(glm::length(upper - lower), 1e-6f);
+}
+
 CameraSetup frame_bounds(const Scene& scene, float aspect) {
     CameraSetup camera;
     camera.up = {0.0f, 1.0f, 0.0f};

@@ -66,6 +66,10 @@ Scene make_many_lights(std::uint32_t light_count, std::uint64_t seed);
 /// triangles.
 Scene load_obj(const std::filesystem::path& path);
 
+/// Length of the diagonal of the scene's bounding box (at least 1e-6): the scale of ray
+/// offsets and default radii.
+float scene_size(const Scene& scene);
+
 /// A camera that looks at the scene's bounding box from the front (+z), for scenes without
 /// one: the box's front face fills an image of aspect ratio `aspect` (width / height).
 CameraSetup frame_bounds(const Scene& scene, float aspect);

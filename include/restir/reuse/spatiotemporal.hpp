@@ -57,10 +57,7 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
     // Cap every history at a multiple of the current M (copies: the buffers are read-only).
     Reservoir<Sample> capped[max_reuse_inputs];
     for (std::uint32_t i = 0; i < count; ++i) {
-        capped[i] = *inputs[i].reservoir;
-        if (temporal.history_cap_multiplier > 0u)
-            capped[i].cap_candidate_count(temporal.history_cap_multiplier *
-                                          current.candidate_count);
+        capped[i] = capped_history(*inputs[i].reservoir, current.candidate_count, temporal);
         inputs[i].reservoir = &capped[i];
     }
     return combine_reservoirs(current, surface, inputs, count, temporal.reuse, bridge, rng);

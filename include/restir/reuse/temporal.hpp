@@ -56,6 +56,17 @@ RESTIR_HOST_DEVICE constexpr PixelCoord history_pixel(PixelCoord reprojected,
             reprojected.y ^ static_cast<std::int32_t>(pattern >> 1u)};
 }
 
+/// A previous-frame reservoir with its M capped at `params.history_cap_multiplier` times the
+/// current M (no cap for a multiplier of 0); W is unchanged.
+template <class Sample>
+RESTIR_HOST_DEVICE constexpr Reservoir<Sample> capped_history(Reservoir<Sample> history,
+                                                              std::uint32_t current_count,
+                                                              const TemporalParams& params) {
+    if (params.history_cap_multiplier > 0u)
+        history.cap_candidate_count(params.history_cap_multiplier * current_count);
+    return history;
+}
+
 /// Temporal resampling of one pixel. `current` is the pixel's finalised reservoir for this
 /// frame (initial candidates, possibly visibility-tested) computed for `surface`;
 /// `previous_reservoirs` and `previous_surfaces` are last frame's buffers. Returns the
@@ -77,9 +88,8 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
                        previous_surfaces, params.similarity, bridge.material_test);
     if (input.reservoir == nullptr)
         return current;
-    Reservoir<Sample> history = *input.reservoir;
-    if (params.history_cap_multiplier > 0u)
-        history.cap_candidate_count(params.history_cap_multiplier * current.candidate_count);
+    const Reservoir<Sample> history =
+        capped_history(*input.reservoir, current.candidate_count, params);
     input.reservoir = &history;
     return combine_reservoirs(current, surface, &input, 1u, params.reuse, bridge, rng);
 }

@@ -1,0 +1,29 @@
+// The photon shooter's scatter hook for the renderer's materials: Lambertian reflection of
+// the hit triangle's albedo, sampled by cosine about the normal facing the photon. Emitters
+// reflect too but hold no VPL (restir::ScatterFunction).
+#pragma once
+
+#include "embree_scene.hpp"
+#include "scene.hpp"
+
+#include <restir/core/rng.hpp>
+#include <restir/vpl/photon_shooter.hpp>
+
+#include <glm/geometric.hpp>
+
+namespace pt {
+
+struct LambertianScatter {
+    const Scene* scene = nullptr;
+
+    restir::Scattering operator()(const Hit& hit, glm::vec3 incoming, restir::Pcg32& rng) const {
+        const Material& m = scene->materials[scene->triangle_materials[hit.triangle]];
+        const glm::vec3 facing = glm::dot(hit.normal, incoming) < 0.0f ? hit.normal : -hit.normal;
+        const float u0 = next_float(rng);
+        const float u1 = next_float(rng);
+        return {restir::sample_emission_direction(facing, u0, u1), m.albedo, m.albedo, true,
+                m.is_emissive()};
+    }
+};
+
+} // namespace pt
