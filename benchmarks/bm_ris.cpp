@@ -1,5 +1,6 @@
-// Microbenchmarks of streaming RIS (restir::resample_ris): 32 candidate lights per pixel,
-// over 1k and over 1M point lights.
+// Microbenchmarks of streaming RIS (restir::resample_ris) and batch RIS
+// (restir::resample_ris_batch over structure-of-arrays light tiles): 32 candidate lights per
+// pixel, over 1k and over 1M point lights.
 //
 // One iteration is one pixel: a Pcg32 from make_pixel_rng(pixel, ...), a receiver point that
 // changes from pixel to pixel, 32 candidates drawn by a light sampler, each scored by a
@@ -10,13 +11,17 @@
 #include "restir/light/attenuation.hpp"
 #include "restir/light/light_sampler.hpp"
 #include "restir/sampling/alias_table.hpp"
+#include "restir/sampling/light_tile_arrays.hpp"
+#include "restir/sampling/light_tiles.hpp"
 #include "restir/sampling/ris.hpp"
+#include "restir/sampling/ris_batch.hpp"
 
 #include <benchmark/benchmark.h>
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
 #include <cstddef>
+#include <algorithm>
 #include <cstdint>
 #include <random>
 #include <vector>
@@ -112,5 +117,129 @@ void BM_RIS_32Candidates_Uniform(benchmark::State& state) {
     run_ris(state, lights, sampler);
 }
 BENCHMARK(BM_RIS_32Candidates_Uniform)->Arg(1000)->Arg(1000000);
+
+// Batch RIS on the same lights and receivers: 256 tiles of 1024 lights presampled by power
+// (filled once, as a renderer does once per frame; BM_LightTiles_Fill times that), each pixel
+// 32 candidates as 4 blocks of 8 consecutive entries of one tile, a receiver normal, and the
+// target of `evaluate_tile_block` (isotropic points: Yuksel falloff times the receiver
+// cosine, a little more work than the streaming benchmarks' target).
+constexpr std::uint32_t kTileCount = 256u;
+constexpr std::uint32_t kTileSize = 1024u;
+constexpr std::uint32_t kBlock = 8u;
+
+struct PointLightSet {
+    const PointLight* lights;
+    std::uint32_t count;
+    std::uint32_t light_count() const { return count; }
+    restir::LightSample sample_point(std::uint32_t id, glm::vec2) const {
+        restir::LightSample p;
+        p.position = lights[id].position;
+        p.normal = glm::vec3(0.0f); // isotropic
+        p.radiance = glm::vec3(lights[id].power);
+        p.area_pdf = 1.0f;
+        p.is_delta = true;
+        return p;
+    }
+};
+
+struct Tiles {
+    std::vector<float> planes;
+    std::vector<restir::LightSampleRef> references;
+    restir::LightTileArrays view;
+
+    Tiles(const std::vector<PointLight>& lights, const restir::PowerLightSampler& sampler)
+        : planes(std::size_t{kTileCount} * kTileSize * restir::tile_plane_count),
+          references(std::size_t{kTileCount} * kTileSize),
+          view{planes.data(), references.data(), kTileCount, kTileSize} {
+        fill(lights, sampler, 0u);
+    }
+    void fill(const std::vector<PointLight>& lights, const restir::PowerLightSampler& sampler,
+              std::uint32_t frame) const {
+        const PointLightSet set{lights.data(), static_cast<std::uint32_t>(lights.size())};
+        for (std::uint32_t i = 0; i < kTileCount * kTileSize; ++i) {
+            restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 50u);
+            view.store(i / kTileSize, i % kTileSize, restir::presample_light(sampler, set, rng),
+                       {restir::Attenuation::yuksel, kLightRadius});
+        }
+    }
+};
+
+std::vector<float> light_powers(const std::vector<PointLight>& lights) {
+    std::vector<float> powers(lights.size());
+    for (std::size_t i = 0; i < lights.size(); ++i)
+        powers[i] = lights[i].power;
+    return powers;
+}
+
+void BM_RIS_Batch(benchmark::State& state) {
+    const std::vector<PointLight> lights = make_lights(static_cast<std::size_t>(state.range(0)));
+    const restir::AliasTable table(light_powers(lights));
+    const Tiles tiles(lights, restir::PowerLightSampler{table.view()});
+    const glm::vec3* receiver_points = receivers().data();
+    std::uint32_t pixel = 0u;
+    for (auto _ : state) {
+        const glm::vec3 receiver = receiver_points[pixel % kReceiverCount];
+        const glm::vec3 normal = glm::normalize(receiver_points[(pixel + 1u) % kReceiverCount]);
+        restir::Pcg32 rng = restir::make_pixel_rng(pixel, 0u, 0u);
+        // 64 pixels (an 8 x 8 block) share a tile; blocks walk it with a random odd stride.
+        const std::uint32_t tile = tiles.view.tile_for(pixel / 64u, 0u);
+        const std::uint32_t start = rng.next_uint();
+        const std::uint32_t stride = rng.next_uint() | 1u;
+        auto reservoir = restir::resample_ris_batch<kBlock>(
+            rng, kCandidates, [&](std::uint32_t b, restir::CandidateBlock<kBlock>& block) {
+                const std::uint32_t first = ((start + b * stride) % (kTileSize / kBlock)) * kBlock;
+                return restir::evaluate_tile_block(tiles.view, tile, first, receiver, normal,
+                                                   glm::vec3(1.0f), block);
+            });
+        benchmark::DoNotOptimize(reservoir);
+        ++pixel;
+    }
+    state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(kCandidates));
+}
+BENCHMARK(BM_RIS_Batch)->Arg(1000)->Arg(1000000);
+
+// The selection step alone: blocks of 8 precomputed target values and inverse pdfs, one
+// selection per block and its reservoir update (what batch RIS adds to the target
+// evaluations). Items are candidates.
+void BM_RIS_BatchSelect(benchmark::State& state) {
+    constexpr std::uint32_t block_count = 4096u;
+    std::vector<restir::CandidateBlock<kBlock>> blocks(block_count);
+    std::mt19937 engine(0x5eed0103u);
+    std::uniform_real_distribution<float> value(0.0f, 4.0f);
+    for (auto& block : blocks)
+        for (std::uint32_t i = 0; i < kBlock; ++i) {
+            block.target[i] = i % 7u == 3u ? 0.0f : value(engine);
+            block.inverse_pdf[i] = value(engine);
+        }
+    std::vector<float> uniforms(2u * block_count);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    for (float& u : uniforms)
+        u = std::min(unit(engine), 0.99999994f);
+    for (auto _ : state) {
+        restir::Reservoir<std::uint32_t> reservoir;
+        for (std::uint32_t b = 0; b < block_count; ++b) {
+            const restir::BlockSelection chosen =
+                restir::select_in_block(blocks[b], uniforms[2u * b]);
+            reservoir.stream_group(b * kBlock + chosen.lane, chosen.weight_sum, chosen.target,
+                                   kBlock, uniforms[2u * b + 1u]);
+        }
+        benchmark::DoNotOptimize(reservoir);
+    }
+    state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(block_count * kBlock));
+}
+BENCHMARK(BM_RIS_BatchSelect);
+
+// Filling 256 tiles of 1024 presampled lights (a renderer does this once per frame).
+void BM_LightTiles_Fill(benchmark::State& state) {
+    const std::vector<PointLight> lights = make_lights(static_cast<std::size_t>(state.range(0)));
+    const restir::AliasTable table(light_powers(lights));
+    const restir::PowerLightSampler sampler{table.view()};
+    const Tiles tiles(lights, sampler);
+    std::uint32_t frame = 1u;
+    for (auto _ : state)
+        tiles.fill(lights, sampler, frame++);
+    state.SetItemsProcessed(state.iterations() * std::int64_t{kTileCount * kTileSize});
+}
+BENCHMARK(BM_LightTiles_Fill)->Arg(1000)->Arg(1000000)->Unit(benchmark::kMillisecond);
 
 } // namespace

@@ -1,10 +1,22 @@
 # Compiler settings for the project's own targets (tests, examples, benchmarks); consumers
 # of restir::restir never see them.
+include(CheckCXXCompilerFlag)
 add_library(restir_project_options INTERFACE)
 target_compile_options(
   restir_project_options
   INTERFACE -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wdouble-promotion
             -Wnon-virtual-dtor -Wold-style-cast -Werror)
+# sqrt without errno, so that loops calling it vectorise (docs/performance.md); the library
+# never reads errno.
+target_compile_options(restir_project_options INTERFACE -fno-math-errno)
+# The machine's own vector width for what is built and run here (the renderer, benchmarks).
+option(RESTIR_NATIVE_ARCH "Build the project's own targets with -march=native" ON)
+if(RESTIR_NATIVE_ARCH)
+  check_cxx_compiler_flag(-march=native restir_has_march_native)
+  if(restir_has_march_native)
+    target_compile_options(restir_project_options INTERFACE -march=native)
+  endif()
+endif()
 if(RESTIR_SANITIZE)
   target_compile_options(restir_project_options INTERFACE -fsanitize=address,undefined
                                                           -fno-sanitize-recover=all

@@ -95,17 +95,28 @@ struct Renderer::Impl {
     }
 
     // --- Pixels --------------------------------------------------------------------------
+    // Pixels in 8 x 8 blocks, the blocks spread over the threads: a block's pixels share one
+    // light tile (initial candidates), nearby reservoirs (reuse) and coherent rays.
+    static constexpr std::uint32_t pixel_block = 8;
     template <class Body>
     void for_each_pixel(Body&& body) {
         const std::uint32_t width = r.settings_.width;
         const std::uint32_t height = r.settings_.height;
+        const std::uint32_t block_rows = (height + pixel_block - 1u) / pixel_block;
+        const std::uint32_t block_columns = (width + pixel_block - 1u) / pixel_block;
         arena.execute([&] {
             tbb::parallel_for(
-                tbb::blocked_range2d<std::uint32_t>(0, height, 8, 0, width, 32),
-                [&](const tbb::blocked_range2d<std::uint32_t>& tile) {
-                    for (std::uint32_t y = tile.rows().begin(); y < tile.rows().end(); ++y)
-                        for (std::uint32_t x = tile.cols().begin(); x < tile.cols().end(); ++x)
-                            body(x, y, x + y * width);
+                tbb::blocked_range2d<std::uint32_t>(0, block_rows, 1, 0, block_columns, 4),
+                [&](const tbb::blocked_range2d<std::uint32_t>& blocks) {
+                    for (std::uint32_t by = blocks.rows().begin(); by < blocks.rows().end(); ++by)
+                        for (std::uint32_t bx = blocks.cols().begin(); bx < blocks.cols().end();
+                             ++bx) {
+                            const std::uint32_t y_end = std::min(height, (by + 1u) * pixel_block);
+                            const std::uint32_t x_end = std::min(width, (bx + 1u) * pixel_block);
+                            for (std::uint32_t y = by * pixel_block; y < y_end; ++y)
+                                for (std::uint32_t x = bx * pixel_block; x < x_end; ++x)
+                                    body(x, y, x + y * width);
+                        }
                 });
         });
     }
@@ -120,57 +131,61 @@ struct Renderer::Impl {
         return hit.found ? surface_at(hit, direction) : GSurface{};
     }
 
-    // Presampled light tiles, refilled for every frame (and sample): candidates come from one
-    // tile per 8 x 8 pixel block, which stays in cache. (Tiles of 256 lights for 16 x 16 blocks
-    // were 15 % faster but left visible block patterns: a block sees too few lights.)
+    // Presampled light tiles, refilled for every frame (and sample), in the structure-of-arrays
+    // layout of batch RIS: candidates come from one tile per 8 x 8 pixel block, which stays in
+    // cache. (Tiles of 256 lights for 16 x 16 blocks were 15 % faster but left visible block
+    // patterns: a block sees too few lights.)
     static constexpr std::uint32_t tile_count = 256;
     static constexpr std::uint32_t tile_size = 1024; // a power of two
-    std::vector<restir::PresampledLight> tile_entries;
-    restir::LightTilesView tiles;
+    static constexpr std::uint32_t block_size = 8;   // candidates per batch-RIS block
+    std::vector<float> tile_planes;
+    std::vector<restir::LightSampleRef> tile_references;
+    restir::LightTileArrays tiles;
 
     void fill_tiles(std::uint32_t frame_index) {
-        tile_entries.resize(std::size_t{tile_count} * tile_size);
+        tile_planes.resize(std::size_t{tile_count} * tile_size * restir::tile_plane_count);
+        tile_references.resize(std::size_t{tile_count} * tile_size);
+        tiles = {tile_planes.data(), tile_references.data(), tile_count, tile_size};
         const restir::PowerLightSampler power{light_table.view()};
         const restir::UniformLightSampler uniform{lights.light_count()};
         const std::uint64_t seed = r.settings_.seed;
         arena.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0u, tile_count * tile_size, 256u),
-                              [&](const tbb::blocked_range<std::uint32_t>& range) {
-                                  for (std::uint32_t i = range.begin(); i < range.end(); ++i) {
-                                      restir::Pcg32 rng =
-                                          restir::make_pixel_rng(i, frame_index, 50u, seed);
-                                      tile_entries[i] =
-                                          r.settings_.source == CandidateSource::power
-                                              ? restir::presample_light(power, lights, rng)
-                                              : restir::presample_light(uniform, lights, rng);
-                                  }
-                              });
+            tbb::parallel_for(
+                tbb::blocked_range<std::uint32_t>(0u, tile_count * tile_size, 256u),
+                [&](const tbb::blocked_range<std::uint32_t>& range) {
+                    for (std::uint32_t i = range.begin(); i < range.end(); ++i) {
+                        restir::Pcg32 rng = restir::make_pixel_rng(i, frame_index, 50u, seed);
+                        const restir::PresampledLight entry =
+                            r.settings_.source == CandidateSource::power
+                                ? restir::presample_light(power, lights, rng)
+                                : restir::presample_light(uniform, lights, rng);
+                        tiles.store(i / tile_size, i % tile_size, entry, falloff);
+                    }
+                });
         });
-        tiles = {tile_entries.data(), tile_count, tile_size};
     }
 
-    // RIS over candidates from the pixel block's tile (Alg. 3 of Bitterli et al. 2020).
+    // Batch RIS over candidates from the pixel block's tile (Alg. 3 of Bitterli et al. 2020, in
+    // blocks of 8 consecutive entries: sampling/ris_batch.hpp).
     Reservoir initial_reservoir(std::uint32_t x, std::uint32_t y, std::uint32_t frame_index,
                                 const GSurface& s, restir::Pcg32& rng) const {
         const std::uint32_t blocks_per_row = (r.settings_.width + 7u) / 8u;
         const std::uint32_t tile = tiles.tile_for(x / 8u + (y / 8u) * blocks_per_row, frame_index);
-        const restir::PresampledLight* entries = tiles.entries + std::size_t{tile} * tile_size;
-        // Candidates walk the tile from a random start with a random odd stride: each one is a
-        // uniformly random entry (so its density is the entry's pdf), no entry repeats, and the
-        // walk needs two random numbers instead of one per candidate.
-        std::uint32_t walk = rng.next_uint() & (tile_size - 1u);
+        // Candidate blocks walk the tile's blocks from a random start with a random odd stride:
+        // every candidate is a uniformly random entry (so its density is the entry's pdf), and
+        // no block repeats within a pixel while there are enough of them.
+        constexpr std::uint32_t block_mask = tile_size / block_size - 1u;
+        const std::uint32_t start = rng.next_uint();
         const std::uint32_t stride = rng.next_uint() | 1u;
-        const auto picked = restir::resample_ris(
+        const glm::vec3 channel_weights = s.albedo * inv_pi;
+        const auto picked = restir::resample_ris_batch<block_size>(
             rng, r.settings_.candidates,
-            [&](restir::Pcg32&) {
-                walk = (walk + stride) & (tile_size - 1u);
-                return restir::SourceSample<std::uint32_t>{walk, entries[walk].pdf};
-            },
-            [&](std::uint32_t index) {
-                const glm::vec3 f = reflected(s, entries[index].point);
-                return f.x + f.y + f.z;
+            [&](std::uint32_t b, restir::CandidateBlock<block_size>& block) {
+                const std::uint32_t first = ((start + b * stride) & block_mask) * block_size;
+                return restir::evaluate_tile_block(tiles, tile, first, s.position, s.normal,
+                                                   channel_weights, block);
             });
-        return picked.with_sample(entries[picked.sample].reference);
+        return picked.with_sample(tiles.references[picked.sample]);
     }
 
     // f(y) W without visibility, for a reservoir whose sample is known to be visible.
@@ -392,8 +407,10 @@ FrameTimings Renderer::render_frame() {
 
         // Initial candidates (and their visibility, for visibility reuse).
         start = Clock::now();
-        std::swap(im.reservoirs, im.previous_reservoirs);
         im.fill_tiles(frame);
+        t.tiles = milliseconds_since(start);
+        start = Clock::now();
+        std::swap(im.reservoirs, im.previous_reservoirs);
         im.for_each_pixel([&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
             const GSurface& s = im.surfaces[i];
             Reservoir& reservoir = im.reservoirs[i];
@@ -497,9 +514,12 @@ FrameTimings Renderer::render_frame() {
                 im.surfaces[i] = im.primary(x, y, rng);
             });
             t.primary += milliseconds_since(start);
-            start = Clock::now();
-            if (rs.method == Method::ris)
+            if (rs.method == Method::ris) {
+                start = Clock::now();
                 im.fill_tiles(index);
+                t.tiles += milliseconds_since(start);
+            }
+            start = Clock::now();
             im.for_each_pixel([&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
                 const GSurface& s = im.surfaces[i];
                 if (!s.valid)

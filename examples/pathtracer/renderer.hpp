@@ -58,10 +58,11 @@ struct RenderSettings {
     std::uint32_t max_depth = 8;     ///< Path length limit (reference, gi path).
 };
 
-/// Milliseconds per phase of one frame.
+/// Milliseconds per phase of one frame: `tiles` is the light-tile fill, `candidates` the
+/// initial RIS and its visibility ray (ris: RIS and shading are both in `shading`).
 struct FrameTimings {
-    double primary = 0, photons = 0, candidates = 0, temporal = 0, spatial = 0, shading = 0,
-           total = 0;
+    double primary = 0, photons = 0, tiles = 0, candidates = 0, temporal = 0, spatial = 0,
+           shading = 0, total = 0;
 };
 
 /// Renders frames of one scene with one setting. Throws SceneError for a scene without

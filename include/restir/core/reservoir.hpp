@@ -44,6 +44,21 @@ struct Reservoir {
         return true;
     }
 
+    /// Offers a group of `count` candidates that were already resampled among themselves
+    /// (batch RIS): `weight` is the group's weight sum, `candidate` the one it chose and
+    /// `target` its p-hat. The group is kept with probability weight / w_sum, so a candidate
+    /// of it ends up kept with probability w_i / w_sum, as if streamed one by one.
+    RESTIR_HOST_DEVICE constexpr bool stream_group(const Sample& candidate, float weight,
+                                                   float target, std::uint32_t count,
+                                                   float u) noexcept {
+        RESTIR_ASSERT(u >= 0.0f && u < 1.0f);
+        if (!add_weight(weight, u, count))
+            return false;
+        sample = candidate;
+        target_value = target;
+        return true;
+    }
+
     /// Like `stream`, but builds the sample with `make_sample()` only when it is selected,
     /// for samples that are costly to construct.
     template <class MakeSample>
