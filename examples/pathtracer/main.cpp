@@ -145,6 +145,10 @@ int main(int argc, char** argv) {
         ->default_str("pairwise");
     app.add_option("--visibility-reuse", settings.visibility_reuse,
                    "Zero W of occluded samples before reuse (true/false)");
+    app.add_option("--mis-rays", settings.mis_rays,
+                   "With visibility reuse, trace the shadow rays of the reuse MIS weights "
+                   "(true/false); false assumes samples visible inside the weights (no rays in "
+                   "reuse, slightly biased: docs/noise-and-bias.md)");
     const std::map<std::string, pt::CandidateSource> sources{
         {"power", pt::CandidateSource::power}, {"uniform", pt::CandidateSource::uniform}};
     app.add_option("--source", settings.source,

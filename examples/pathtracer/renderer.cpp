@@ -51,7 +51,9 @@ glm::vec3 sample_cosine(glm::vec3 normal, restir::Pcg32& rng) {
 } // namespace
 
 using Unified = restir::UnifiedLightSet<TriangleEmitters>;
-using Reservoir = restir::Reservoir<restir::LightSampleRef>;
+// Reservoirs keep their light point (restir::LightPointSample): reuse evaluates p-hat at other
+// surfaces without reading the light and VPL arrays again.
+using Reservoir = restir::Reservoir<restir::LightPointSample>;
 
 struct Renderer::Impl {
     const Renderer& r;
@@ -80,18 +82,24 @@ struct Renderer::Impl {
         return s.albedo * inv_pi *
                restir::unshadowed_irradiance(light, s.position, s.normal, falloff);
     }
-    // p-hat: the unshadowed reflected radiance summed over the channels. (Luminance would
-    // weigh blue 0.07: a saturated blue light would then be drawn 14 times too rarely for its
-    // blue channel, and show as fireflies in every channel-wise error measure.)
-    float target(const restir::LightSampleRef& ref, const GSurface& s) const {
-        const glm::vec3 f = reflected(s, lights.sample_point(ref.light_id, ref.uv));
-        return f.x + f.y + f.z;
-    }
     restir::LightVisibility<Unified, EmbreeScene> visibility() const {
         return {&lights, &r.rays_, ray_offset};
     }
     bool visible(const restir::LightSampleRef& ref, const GSurface& s) const {
         return visibility()(ref, s);
+    }
+    // p-hat of a reservoir's sample (which carries its light point): the unshadowed reflected
+    // radiance summed over the channels. (Luminance would weigh blue 0.07: a saturated blue
+    // light would then be drawn 14 times too rarely for its blue channel, and show as fireflies
+    // in every channel-wise error measure.) The initial candidates use the same function in
+    // its batch form (restir::evaluate_tile_block with channel weights albedo / pi).
+    float point_target(const restir::LightPointSample& sample, const GSurface& s) const {
+        const glm::vec3 f = s.albedo * inv_pi *
+                            restir::unshadowed_irradiance(sample, s.position, s.normal);
+        return f.x + f.y + f.z;
+    }
+    restir::LightPointVisibility<EmbreeScene> point_visibility() const {
+        return {&r.rays_, ray_offset};
     }
 
     // --- Pixels --------------------------------------------------------------------------
@@ -185,22 +193,23 @@ struct Renderer::Impl {
                 return restir::evaluate_tile_block(tiles, tile, first, s.position, s.normal,
                                                    channel_weights, block);
             });
-        return picked.with_sample(tiles.references[picked.sample]);
+        return picked.with_sample(tiles.point_sample(picked.sample));
     }
 
     // f(y) W without visibility, for a reservoir whose sample is known to be visible.
     glm::vec3 unshadowed(const Reservoir& reservoir, const GSurface& s) const {
         if (!reservoir.has_sample() || !(reservoir.contribution_weight > 0.0f))
             return glm::vec3(0.0f);
-        const restir::LightSample light =
-            lights.sample_point(reservoir.sample.light_id, reservoir.sample.uv);
-        return reflected(s, light) * reservoir.contribution_weight;
+        return s.albedo * inv_pi *
+               restir::unshadowed_irradiance(reservoir.sample, s.position, s.normal) *
+               reservoir.contribution_weight;
     }
 
     // f(y) W with the shadow ray.
     glm::vec3 shade(const Reservoir& reservoir, const GSurface& s) const {
-        return reservoir.has_sample() && visible(reservoir.sample, s) ? unshadowed(reservoir, s)
-                                                                      : glm::vec3(0.0f);
+        return reservoir.has_sample() && point_visibility()(reservoir.sample, s)
+                   ? unshadowed(reservoir, s)
+                   : glm::vec3(0.0f);
     }
 
     // One uniformly chosen light sample, f / p.
@@ -420,14 +429,16 @@ FrameTimings Renderer::render_frame() {
             restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 1u, seed);
             reservoir = im.initial_reservoir(x, y, frame, s, rng);
             if (rs.visibility_reuse)
-                restir::apply_visibility(reservoir, s, im.visibility());
+                restir::apply_visibility(reservoir, s, im.point_visibility());
         });
         t.candidates = milliseconds_since(start);
 
-        const restir::ReuseBridge bridge{[&im](const restir::LightSampleRef& ref,
-                                               const GSurface& s) { return im.target(ref, s); },
-                                         im.visibility()};
-        const restir::ReuseParams reuse{rs.bias_correction, rs.visibility_reuse};
+        const restir::ReuseBridge bridge{
+            [&im](const restir::LightPointSample& sample, const GSurface& s) {
+                return im.point_target(sample, s);
+            },
+            im.point_visibility()};
+        const restir::ReuseParams reuse{rs.bias_correction, rs.visibility_reuse, rs.mis_rays};
 
         // Temporal reuse through reprojection of this frame's surfaces into the last camera.
         start = Clock::now();
@@ -491,7 +502,7 @@ FrameTimings Renderer::render_frame() {
             if (s.valid) {
                 Reservoir& reservoir = im.reservoirs[i];
                 color = s.emitted + (rs.visibility_reuse
-                                         ? (restir::apply_visibility(reservoir, s, im.visibility())
+                                         ? (restir::apply_visibility(reservoir, s, im.point_visibility())
                                                 ? im.unshadowed(reservoir, s)
                                                 : glm::vec3(0.0f))
                                          : im.shade(reservoir, s));

@@ -11,6 +11,7 @@
 #include "restir/core/rng.hpp"
 #include "restir/light/attenuation.hpp"
 #include "restir/light/irradiance.hpp"
+#include "restir/light/light_point_sample.hpp"
 #include "restir/light/light_sample.hpp"
 #include "restir/light/light_sampler.hpp"
 #include "restir/light/unified_light_set.hpp"

@@ -51,6 +51,13 @@ struct ReuseParams {
     /// visibility at the neighbours to match. False when no reservoir is ever
     /// visibility-tested before reuse (no rays are traced then).
     bool visibility_reuse = true;
+    /// With visibility reuse: true traces the shadow rays that the MIS weights of the unbiased
+    /// modes need (exact: a neighbour's p-hat includes its visibility); false assumes every
+    /// sample visible from every neighbour inside the weights, as RTXDI's default pairwise
+    /// mode does, and traces no ray in reuse. The ray-free weights still sum to one, but give
+    /// a neighbour weight for samples it could not have produced (occluded from it), so the
+    /// result is biased near shadow boundaries; docs/noise-and-bias.md has the measured bias.
+    bool trace_mis_visibility = true;
 };
 
 /// Largest number of reservoirs one reuse step combines (the canonical one included).
@@ -103,7 +110,8 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
     // term: where the receiver sees nothing the integrand is zero whatever the weights.
     const auto target_at = [&](const Sample& x, const S& there) {
         const auto t = static_cast<float>(bridge.target(x, there));
-        if (t > 0.0f && params.visibility_reuse && !bridge.visibility(x, there))
+        if (t > 0.0f && params.visibility_reuse && params.trace_mis_visibility &&
+            !bridge.visibility(x, there))
             return 0.0f;
         return t;
     };

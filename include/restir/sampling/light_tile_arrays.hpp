@@ -2,21 +2,21 @@
 /// Presampled light tiles (sampling/light_tiles.hpp) in a structure-of-arrays layout for
 /// batch RIS (sampling/ris_batch.hpp): each tile keeps one contiguous array per quantity, so
 /// that the target values of a block of consecutive entries are one plain loop over floats
-/// that the compiler vectorises. Every entry folds its falloff into two numbers, which makes
-/// area lights, VPLs and point lights one formula without branches.
+/// that the compiler vectorises. Every entry is folded as `folded_irradiance_factor` wants it,
+/// which makes area lights, VPLs and point lights one formula without branches.
 #pragma once
 
 #include "restir/config.hpp"
 #include "restir/core/math.hpp"
 #include "restir/light/attenuation.hpp"
 #include "restir/light/irradiance.hpp"
+#include "restir/light/light_point_sample.hpp"
 #include "restir/light/light_sample.hpp"
 #include "restir/sampling/light_tiles.hpp"
 #include "restir/sampling/ris_batch.hpp"
 
 #include <glm/vec3.hpp>
 
-#include <cmath>
 #include <cstdint>
 
 namespace restir {
@@ -36,6 +36,7 @@ enum class TilePlane : std::uint32_t {
     yuksel_radius_squared,  ///< r^2 of Yuksel's falloff for delta lights, else 0.
     min_distance_squared,   ///< d_min^2 of the clamped falloff for delta lights, else 0.
     inverse_pdf,            ///< 1 / p of the entry's source density (0 if p = 0).
+    delta,                  ///< 1 for a delta light (only `point_sample` reads it).
     count
 };
 
@@ -69,47 +70,56 @@ struct LightTileArrays {
         return LightTilesView{nullptr, tile_count, tile_size}.tile_for(group, frame);
     }
 
+    /// Entry `entry` (a global index, as `evaluate_tile_block` hands out) as a light sample with
+    /// its point, for reservoirs that reuse it without light lookups.
+    RESTIR_HOST_DEVICE LightPointSample point_sample(std::uint32_t entry) const {
+        const std::uint32_t tile = entry / tile_size;
+        const std::uint32_t index = entry % tile_size;
+        const auto get = [&](TilePlane k) { return plane(tile, k)[index]; };
+        LightPointSample s;
+        s.reference = references[entry];
+        s.position = {get(TilePlane::position_x), get(TilePlane::position_y),
+                      get(TilePlane::position_z)};
+        s.normal = {get(TilePlane::normal_x), get(TilePlane::normal_y), get(TilePlane::normal_z)};
+        s.intensity = {get(TilePlane::radiance_r), get(TilePlane::radiance_g),
+                       get(TilePlane::radiance_b)};
+        const float radius2 = get(TilePlane::yuksel_radius_squared);
+        s.falloff = radius2 > 0.0f ? radius2 : -get(TilePlane::min_distance_squared);
+        s.is_delta = get(TilePlane::delta) != 0.0f;
+        return s;
+    }
+
     /// Stores `entry` as entry `index` (in [0, tile_size)) of tile `tile`, with the falloff
     /// its delta lights use.
     RESTIR_HOST_DEVICE void store(std::uint32_t tile, std::uint32_t index,
                                   const PresampledLight& entry, const Falloff& falloff) const {
-        const LightSample& p = entry.point;
-        const bool usable = entry.pdf > 0.0f && (p.is_delta || p.area_pdf > 0.0f);
-        const float scale = !usable ? 0.0f : p.is_delta ? 1.0f : 1.0f / p.area_pdf;
-        const float parameter_squared = falloff.parameter * falloff.parameter;
-        const bool isotropic = p.normal.x == 0.0f && p.normal.y == 0.0f && p.normal.z == 0.0f;
+        const LightPointSample s = make_light_point_sample(entry.reference, entry.point, falloff);
+        const bool usable = entry.pdf > 0.0f;
+        const bool isotropic = s.normal.x == 0.0f && s.normal.y == 0.0f && s.normal.z == 0.0f;
         const auto put = [&](TilePlane k, float value) { plane(tile, k)[index] = value; };
-        put(TilePlane::position_x, p.position.x);
-        put(TilePlane::position_y, p.position.y);
-        put(TilePlane::position_z, p.position.z);
-        put(TilePlane::normal_x, p.normal.x);
-        put(TilePlane::normal_y, p.normal.y);
-        put(TilePlane::normal_z, p.normal.z);
+        put(TilePlane::position_x, s.position.x);
+        put(TilePlane::position_y, s.position.y);
+        put(TilePlane::position_z, s.position.z);
+        put(TilePlane::normal_x, s.normal.x);
+        put(TilePlane::normal_y, s.normal.y);
+        put(TilePlane::normal_z, s.normal.z);
         put(TilePlane::isotropic, isotropic ? 1.0f : 0.0f);
-        put(TilePlane::radiance_r, p.radiance.x * scale);
-        put(TilePlane::radiance_g, p.radiance.y * scale);
-        put(TilePlane::radiance_b, p.radiance.z * scale);
-        put(TilePlane::yuksel_radius_squared,
-            p.is_delta && falloff.kind == Attenuation::yuksel ? parameter_squared : 0.0f);
-        put(TilePlane::min_distance_squared,
-            p.is_delta && falloff.kind == Attenuation::clamped_inverse_square ? parameter_squared
-                                                                              : 0.0f);
+        put(TilePlane::radiance_r, usable ? s.intensity.x : 0.0f);
+        put(TilePlane::radiance_g, usable ? s.intensity.y : 0.0f);
+        put(TilePlane::radiance_b, usable ? s.intensity.z : 0.0f);
+        put(TilePlane::yuksel_radius_squared, max_of(s.falloff, 0.0f));
+        put(TilePlane::min_distance_squared, max_of(-s.falloff, 0.0f));
         put(TilePlane::inverse_pdf, usable ? 1.0f / entry.pdf : 0.0f);
+        put(TilePlane::delta, s.is_delta ? 1.0f : 0.0f);
         references[std::uint64_t{tile} * tile_size + index] = entry.reference;
     }
 };
 
 /// Target values of the `Size` consecutive entries [first, first + Size) of tile `tile` at a
-/// receiver (`position`, `normal`): p-hat_i = dot(channel_weights, E_i), where E_i is the
-/// unshadowed irradiance of `unshadowed_irradiance` (channel_weights = albedo / pi gives the
-/// channel sum of a diffuse receiver's reflected radiance). Fills `block` and returns the
-/// global entry index of its lane 0, as `resample_ris_batch` expects. Per lane, with
-/// x = p - position, d^2 = x.x and e = max(d^2, d_min^2):
-///   E = I max(0, n.x) C / (d^2 D),   C = max(0, -n_l.x) (oriented) or d (isotropic),
-///   D = (e + r^2 + sqrt(e (e + r^2))) / 2,
-/// which is Yuksel's 2 / (d^2 + r^2 + d sqrt(d^2 + r^2)) for r > 0 (d sqrt(d^2 + r^2) written
-/// as one square root), the clamped inverse square for d_min > 0, and 1/d^2 otherwise (area
-/// lights, whose 1 / area_pdf is folded into I).
+/// receiver (`position`, `normal`): p-hat_i = dot(channel_weights, E_i), E_i the unshadowed
+/// irradiance (`folded_irradiance_factor` times the entry's intensity; channel_weights =
+/// albedo / pi gives the channel sum of a diffuse receiver's reflected radiance). Fills
+/// `block` and returns the global entry index of its lane 0, as `resample_ris_batch` expects.
 template <std::uint32_t Size>
 RESTIR_HOST_DEVICE std::uint32_t evaluate_tile_block(const LightTileArrays& tiles,
                                                      std::uint32_t tile, std::uint32_t first,
@@ -132,18 +142,12 @@ RESTIR_HOST_DEVICE std::uint32_t evaluate_tile_block(const LightTileArrays& tile
     const float* min_distance2 = at(TilePlane::min_distance_squared);
     const float* inverse_pdf = at(TilePlane::inverse_pdf);
     for (std::uint32_t i = 0; i < Size; ++i) {
-        const float x = px[i] - position.x;
-        const float y = py[i] - position.y;
-        const float z = pz[i] - position.z;
-        const float d2 = x * x + y * y + z * z;
-        const float receiver = max_of(0.0f, normal.x * x + normal.y * y + normal.z * z);
-        const float emitter = max_of(0.0f, -(nx[i] * x + ny[i] * y + nz[i] * z)) +
-                              isotropic[i] * std::sqrt(d2);
-        const float e = max_of(d2, min_distance2[i]);
-        const float denominator = d2 * (e + radius2[i] + std::sqrt(e * (e + radius2[i])));
+        const float factor = folded_irradiance_factor(
+            px[i] - position.x, py[i] - position.y, pz[i] - position.z, normal, nx[i], ny[i],
+            nz[i], isotropic[i], radius2[i], min_distance2[i]);
         const float intensity =
             channel_weights.x * red[i] + channel_weights.y * green[i] + channel_weights.z * blue[i];
-        const float target = 2.0f * intensity * receiver * emitter / denominator;
+        const float target = intensity * factor;
         block.target[i] = is_valid_weight(target) ? target : 0.0f;
         block.inverse_pdf[i] = inverse_pdf[i];
     }

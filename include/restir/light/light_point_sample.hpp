@@ -1,0 +1,132 @@
+/// @file light/light_point_sample.hpp
+/// A light sample that carries its evaluated point in a folded form, so that reuse evaluates
+/// p-hat at other surfaces without looking the light up again: no random reads into the
+/// application's light and VPL buffers for every neighbour (the cost of `LightSampleRef`
+/// reuse, whose sample is re-evaluated with `sample_point` each time).
+#pragma once
+
+#include "restir/concepts.hpp"
+#include "restir/config.hpp"
+#include "restir/core/math.hpp"
+#include "restir/light/attenuation.hpp"
+#include "restir/light/irradiance.hpp"
+#include "restir/light/light_sample.hpp"
+
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
+
+#include <cmath>
+#include <type_traits>
+
+namespace restir {
+
+/// Unshadowed irradiance of a light point per unit intensity, in a folded form that makes
+/// area lights, VPLs and point lights one formula without branches. With x the offset from the
+/// receiver to the light, d^2 = x.x and e = max(d^2, d_min^2):
+///   E / I = max(0, n.x) C / (d^2 D),  C = max(0, -n_l.x), or d for an isotropic light,
+///   D = (e + r^2 + sqrt(e (e + r^2))) / 2,
+/// which is Yuksel's falloff 2 / (d^2 + r^2 + d sqrt(d^2 + r^2)) for r > 0 (its d sqrt(...)
+/// written as one square root), the clamped inverse square for d_min > 0, and 1/d^2 otherwise
+/// (area lights, whose 1 / area_pdf is folded into I). Times cos(theta_receiver)
+/// cos(theta_light) as in `unshadowed_irradiance`. Plain float arithmetic: a loop over
+/// structure-of-arrays lights that calls it vectorises. Returns 0 for a light at the receiver.
+RESTIR_HOST_DEVICE inline float folded_irradiance_factor(float x, float y, float z,
+                                                         glm::vec3 receiver_normal, float nx,
+                                                         float ny, float nz, float isotropic,
+                                                         float yuksel_radius_squared,
+                                                         float min_distance_squared) {
+    const float d2 = x * x + y * y + z * z;
+    const float receiver =
+        max_of(0.0f, receiver_normal.x * x + receiver_normal.y * y + receiver_normal.z * z);
+    const float emitter = max_of(0.0f, -(nx * x + ny * y + nz * z)) + isotropic * std::sqrt(d2);
+    const float e = max_of(d2, min_distance_squared);
+    const float r2 = yuksel_radius_squared;
+    const float factor = 2.0f * receiver * emitter / (d2 * (e + r2 + std::sqrt(e * (e + r2))));
+    return is_valid_weight(factor) ? factor : 0.0f;
+}
+
+/// A light sample with its point: the reference (which light, where) and what evaluating it
+/// gave, folded for `folded_irradiance_factor`. 56 bytes. The point stays valid while the
+/// light does not move (for reservoirs kept across frames, as a `LightSampleRef` does).
+struct LightPointSample {
+    LightSampleRef reference{};
+    glm::vec3 position{0.0f};
+    glm::vec3 normal{0.0f}; ///< Emitting side; zero for an isotropic light.
+    glm::vec3 intensity{0.0f}; ///< Radiance / area_pdf (area lights), radiance (delta lights).
+    /// The falloff of a delta light: r^2 of Yuksel's (> 0), -d_min^2 of the clamped inverse
+    /// square (< 0), or 0 for the exact inverse square and for area lights.
+    float falloff = 0.0f;
+    bool is_delta = false; ///< A point light or VPL (no area).
+};
+
+static_assert(std::is_trivially_copyable_v<LightPointSample>);
+
+/// The folded falloff parameter of a delta light under `falloff` (see LightPointSample).
+RESTIR_HOST_DEVICE inline float folded_falloff(const Falloff& falloff) noexcept {
+    const float squared = falloff.parameter * falloff.parameter;
+    switch (falloff.kind) {
+    case Attenuation::yuksel:
+        return squared;
+    case Attenuation::clamped_inverse_square:
+        return -squared;
+    case Attenuation::inverse_square:
+        break;
+    }
+    return 0.0f;
+}
+
+/// `reference` with its evaluated `point`, folded; delta lights take `falloff`. A point that
+/// cannot emit (an area light with area_pdf 0) gets zero intensity.
+template <LightPoint P>
+RESTIR_HOST_DEVICE LightPointSample make_light_point_sample(const LightSampleRef& reference,
+                                                            const P& point,
+                                                            const Falloff& falloff) {
+    LightPointSample s;
+    s.reference = reference;
+    s.position = point.position;
+    s.normal = point.normal;
+    const float area_pdf = static_cast<float>(point.area_pdf);
+    const float scale = point.is_delta ? 1.0f : area_pdf > 0.0f ? 1.0f / area_pdf : 0.0f;
+    s.intensity = glm::vec3(point.radiance) * scale;
+    s.falloff = point.is_delta ? folded_falloff(falloff) : 0.0f;
+    s.is_delta = point.is_delta;
+    return s;
+}
+
+/// Unshadowed irradiance at (`position`, `normal`) from the sample's point: the value of
+/// `unshadowed_irradiance` for the point it was made from, up to float rounding.
+RESTIR_HOST_DEVICE inline glm::vec3 unshadowed_irradiance(const LightPointSample& s,
+                                                          glm::vec3 position, glm::vec3 normal) {
+    const glm::vec3 x = s.position - position;
+    const bool isotropic = s.normal.x == 0.0f && s.normal.y == 0.0f && s.normal.z == 0.0f;
+    return s.intensity * folded_irradiance_factor(x.x, x.y, x.z, normal, s.normal.x, s.normal.y,
+                                                  s.normal.z, isotropic ? 1.0f : 0.0f,
+                                                  max_of(s.falloff, 0.0f),
+                                                  max_of(-s.falloff, 0.0f));
+}
+
+/// `VisibilityFunction` for `LightPointSample`s, without a light lookup: the segment that
+/// `LightVisibility` tests, from the surface to the sample's point, the surface end pushed
+/// `ray_offset` off the surface towards the light, an area light's end off the light (a delta
+/// light's end stays). Holds a pointer: the query must outlive it.
+template <RayQuery Query>
+struct LightPointVisibility {
+    const Query* query = nullptr;
+    float ray_offset = 1e-4f; ///< World-space offset; scale it with the scene.
+
+    template <Surface S>
+    RESTIR_HOST_DEVICE bool operator()(const LightPointSample& sample, const S& surface) const {
+        const glm::vec3 position = surface_position(surface);
+        const glm::vec3 towards_light = sample.position - position;
+        const glm::vec3 normal = surface_normal(surface);
+        const float side = glm::dot(normal, towards_light) < 0.0f ? -1.0f : 1.0f;
+        const float light_side = glm::dot(sample.normal, towards_light) > 0.0f ? -1.0f : 1.0f;
+        const glm::vec3 from = position + normal * (side * ray_offset);
+        const glm::vec3 to = sample.is_delta
+                                 ? sample.position
+                                 : sample.position + sample.normal * (light_side * ray_offset);
+        return !query->occluded(from, to);
+    }
+};
+
+} // namespace restir
