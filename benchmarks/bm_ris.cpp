@@ -20,8 +20,8 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
-#include <cstddef>
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <random>
 #include <vector>
@@ -149,8 +149,8 @@ struct Tiles {
 
     Tiles(const std::vector<PointLight>& lights, const restir::PowerLightSampler& sampler)
         : planes(std::size_t{kTileCount} * kTileSize * restir::tile_plane_count),
-          references(std::size_t{kTileCount} * kTileSize),
-          view{planes.data(), references.data(), kTileCount, kTileSize} {
+          references(std::size_t{kTileCount} * kTileSize), view{planes.data(), references.data(),
+                                                                kTileCount, kTileSize} {
         fill(lights, sampler, 0u);
     }
     void fill(const std::vector<PointLight>& lights, const restir::PowerLightSampler& sampler,
@@ -181,8 +181,10 @@ void BM_RIS_Batch(benchmark::State& state) {
         const glm::vec3 receiver = receiver_points[pixel % kReceiverCount];
         const glm::vec3 normal = glm::normalize(receiver_points[(pixel + 1u) % kReceiverCount]);
         restir::Pcg32 rng = restir::make_pixel_rng(pixel, 0u, 0u);
-        // 64 pixels (an 8 x 8 block) share a tile; blocks walk it with a random odd stride.
-        const std::uint32_t tile = tiles.view.tile_for(pixel / 64u, 0u);
+        // Pixels take their candidates tile by tile, as the renderer orders its 8 x 8 pixel
+        // blocks by tile (about 56 blocks of 64 pixels per tile at 1280 x 720), so that a tile
+        // is read from memory once; blocks walk the tile with a random odd stride.
+        const std::uint32_t tile = (pixel / 3584u) % kTileCount;
         const std::uint32_t start = rng.next_uint();
         const std::uint32_t stride = rng.next_uint() | 1u;
         auto reservoir = restir::resample_ris_batch<kBlock>(

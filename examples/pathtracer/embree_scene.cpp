@@ -3,6 +3,8 @@
 #include <embree3/rtcore.h>
 #include <glm/geometric.hpp>
 
+#include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -112,6 +114,90 @@ bool EmbreeScene::occluded(glm::vec3 from, glm::vec3 to) const {
     ray.mask = 0xffffffffu;
     rtcOccluded1(scene_, &context, &ray);
     return ray.tfar < 0.0f; // Embree sets tfar to -inf on a hit
+}
+
+// Batches go through Embree's 16-wide packets (rtcIntersect16 / rtcOccluded16, native on
+// AVX-512), primary rays with the coherent context flag, shadow rays with the default
+// (incoherent) one. Measured on the Cornell box, one thread, 64 rays per call (8 x 8 pixel
+// blocks, benchmarks/bm_rays_embree.cpp), in rays/s against rtcIntersect1 / rtcOccluded1:
+// primary 16-wide 4.7x, 8-wide 4.0x, rtcIntersect1M 3.9x (all coherent; 16-wide without the
+// flag only 1.9x); shadow 16-wide 3.6x (coherent flag 2.8x), 8-wide 2.2x, rtcOccluded1M 2.2x.
+namespace {
+constexpr std::size_t packet = 16;
+}
+
+void EmbreeScene::closest_hits(glm::vec3 origin, std::span<const glm::vec3> directions,
+                               std::span<Hit> hits) const {
+    assert(directions.size() == hits.size());
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    alignas(64) int valid[packet];
+    RTCRayHit16 query{}; // lanes past the tail keep earlier (finite) values and are masked off
+    for (std::size_t begin = 0; begin < directions.size(); begin += packet) {
+        const std::size_t count = std::min(packet, directions.size() - begin);
+        for (std::size_t i = 0; i < packet; ++i) {
+            valid[i] = i < count ? -1 : 0;
+            if (i >= count)
+                continue;
+            const glm::vec3 d = directions[begin + i];
+            query.ray.org_x[i] = origin.x;
+            query.ray.org_y[i] = origin.y;
+            query.ray.org_z[i] = origin.z;
+            query.ray.dir_x[i] = d.x;
+            query.ray.dir_y[i] = d.y;
+            query.ray.dir_z[i] = d.z;
+            query.ray.tnear[i] = 0.0f;
+            query.ray.tfar[i] = std::numeric_limits<float>::infinity();
+            query.ray.mask[i] = 0xffffffffu;
+            query.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+            query.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+        }
+        rtcIntersect16(valid, scene_, &context, &query);
+        for (std::size_t i = 0; i < count; ++i) {
+            Hit& hit = hits[begin + i];
+            hit = Hit{};
+            if (query.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID)
+                continue;
+            const glm::vec3 d = directions[begin + i];
+            hit.found = true;
+            hit.triangle = query.hit.primID[i];
+            hit.distance = query.ray.tfar[i] * glm::length(d);
+            hit.position = origin + query.ray.tfar[i] * d;
+            hit.normal = normals_[hit.triangle];
+        }
+    }
+}
+
+void EmbreeScene::occluded_segments(std::span<const glm::vec3> from, std::span<const glm::vec3> to,
+                                    std::span<std::uint8_t> blocked) const {
+    assert(from.size() == to.size() && from.size() == blocked.size());
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    alignas(64) int valid[packet];
+    RTCRay16 ray{};
+    for (std::size_t begin = 0; begin < from.size(); begin += packet) {
+        const std::size_t count = std::min(packet, from.size() - begin);
+        for (std::size_t i = 0; i < packet; ++i) {
+            valid[i] = i < count ? -1 : 0;
+            if (i >= count)
+                continue;
+            const glm::vec3 o = from[begin + i];
+            const glm::vec3 d = to[begin + i] - o;
+            ray.org_x[i] = o.x;
+            ray.org_y[i] = o.y;
+            ray.org_z[i] = o.z;
+            ray.dir_x[i] = d.x;
+            ray.dir_y[i] = d.y;
+            ray.dir_z[i] = d.z;
+            ray.tnear[i] = 0.0f;
+            ray.tfar[i] = 1.0f;
+            ray.mask[i] = 0xffffffffu;
+        }
+        rtcOccluded16(valid, scene_, &context, &ray);
+        for (std::size_t i = 0; i < count; ++i)
+            blocked[begin + i] = ray.tfar[i] < 0.0f ? 1u : 0u;
+    }
 }
 
 } // namespace pt

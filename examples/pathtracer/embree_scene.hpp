@@ -7,6 +7,7 @@
 #include <glm/vec3.hpp>
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 struct RTCDeviceTy;
@@ -41,6 +42,16 @@ public:
 
     /// True when anything blocks the open segment (from, to). The caller offsets the ends.
     bool occluded(glm::vec3 from, glm::vec3 to) const;
+
+    /// closest_hit(origin, directions[i]) into hits[i] for every i, traced together (coherent
+    /// rays, e.g. primary rays of a pixel block). The spans have the same length.
+    void closest_hits(glm::vec3 origin, std::span<const glm::vec3> directions,
+                      std::span<Hit> hits) const;
+
+    /// blocked[i] = occluded(from[i], to[i]) for every i, traced together. The spans have the
+    /// same length.
+    void occluded_segments(std::span<const glm::vec3> from, std::span<const glm::vec3> to,
+                           std::span<std::uint8_t> blocked) const;
 
 private:
     RTCDeviceTy* device_ = nullptr;

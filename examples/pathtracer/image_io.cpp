@@ -474,7 +474,9 @@ Image read_image(const std::filesystem::path& path) {
     return format == Format::exr ? read_exr(path) : read_pfm(path);
 }
 
-double rmse(const Image& image, const Image& reference) {
+namespace {
+
+void check_same_size(const Image& image, const Image& reference) {
     if (image.width != reference.width || image.height != reference.height) {
         throw ImageError("image is " + std::to_string(image.width) + "x" +
                          std::to_string(image.height) + " but the reference is " +
@@ -482,6 +484,12 @@ double rmse(const Image& image, const Image& reference) {
     }
     check_consistent(image, nullptr);
     check_consistent(reference, nullptr);
+}
+
+} // namespace
+
+double rmse(const Image& image, const Image& reference) {
+    check_same_size(image, reference);
     if (image.pixels.empty()) {
         return 0.0;
     }
@@ -494,6 +502,20 @@ double rmse(const Image& image, const Image& reference) {
         }
     }
     return std::sqrt(sum / (3.0 * static_cast<double>(image.pixels.size())));
+}
+
+double relative_mean_difference(const Image& image, const Image& reference) {
+    check_same_size(image, reference);
+    double difference = 0.0;
+    double total = 0.0;
+    for (std::size_t i = 0; i < image.pixels.size(); ++i) {
+        for (int c = 0; c < 3; ++c) {
+            difference += static_cast<double>(image.pixels[i][c]) -
+                          static_cast<double>(reference.pixels[i][c]);
+            total += static_cast<double>(reference.pixels[i][c]);
+        }
+    }
+    return total > 0.0 ? difference / total : 0.0;
 }
 
 float auto_exposure(const Image& image) {

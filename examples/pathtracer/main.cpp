@@ -219,7 +219,7 @@ int main(int argc, char** argv) {
             if (!csv)
                 fail("cannot write " + options.csv);
             csv << "frame,rmse,frame_rmse,frame_ms,elapsed_ms,primary_ms,photons_ms,candidates_ms,"
-                   "temporal_ms,spatial_ms,shading_ms,tiles_ms\n";
+                   "temporal_ms,spatial_ms,shading_ms,tiles_ms,bias,frame_bias\n";
         }
 
         pt::Renderer renderer(scene, settings);
@@ -231,20 +231,26 @@ int main(int argc, char** argv) {
         for (std::uint32_t f = 0; f < options.frames; ++f) {
             const pt::FrameTimings t = renderer.render_frame();
             elapsed += t.total;
-            std::string error, frame_error;
+            std::string error, frame_error, bias, frame_bias;
             if (reference) {
                 error = std::to_string(pt::rmse(renderer.accumulated(), *reference));
                 frame_error = std::to_string(pt::rmse(renderer.last_frame(), *reference));
+                bias = std::to_string(
+                    pt::relative_mean_difference(renderer.accumulated(), *reference));
+                frame_bias =
+                    std::to_string(pt::relative_mean_difference(renderer.last_frame(), *reference));
             }
-            std::printf("frame %u: %.1f ms (primary %.1f, photons %.1f, tiles %.1f, candidates %.1f, "
-                        "temporal %.1f, spatial %.1f, shading %.1f)%s%s\n",
-                        f + 1, t.total, t.primary, t.photons, t.tiles, t.candidates, t.temporal,
-                        t.spatial, t.shading, reference ? " rmse " : "", error.c_str());
+            std::printf(
+                "frame %u: %.1f ms (primary %.1f, photons %.1f, tiles %.1f, candidates %.1f, "
+                "temporal %.1f, spatial %.1f, shading %.1f)%s%s\n",
+                f + 1, t.total, t.primary, t.photons, t.tiles, t.candidates, t.temporal, t.spatial,
+                t.shading, reference ? " rmse " : "", error.c_str());
             std::fflush(stdout);
             if (csv)
                 csv << f + 1 << ',' << error << ',' << frame_error << ',' << t.total << ','
                     << elapsed << ',' << t.primary << ',' << t.photons << ',' << t.candidates << ','
-                    << t.temporal << ',' << t.spatial << ',' << t.shading << ',' << t.tiles << '\n';
+                    << t.temporal << ',' << t.spatial << ',' << t.shading << ',' << t.tiles << ','
+                    << bias << ',' << frame_bias << '\n';
             if (interactive)
                 progress(f + 1, options.frames, t.total);
         }

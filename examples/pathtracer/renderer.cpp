@@ -94,8 +94,8 @@ struct Renderer::Impl {
     // in every channel-wise error measure.) The initial candidates use the same function in
     // its batch form (restir::evaluate_tile_block with channel weights albedo / pi).
     float point_target(const restir::LightPointSample& sample, const GSurface& s) const {
-        const glm::vec3 f = s.albedo * inv_pi *
-                            restir::unshadowed_irradiance(sample, s.position, s.normal);
+        const glm::vec3 f =
+            s.albedo * inv_pi * restir::unshadowed_irradiance(sample, s.position, s.normal);
         return f.x + f.y + f.z;
     }
     restir::LightPointVisibility<EmbreeScene> point_visibility() const {
@@ -129,6 +129,46 @@ struct Renderer::Impl {
         });
     }
 
+    // Pixels in 8 x 8 blocks grouped by the light tile each block draws its candidates from
+    // in `frame_index`, the tiles spread over the threads: each tile is read from memory once
+    // and then serves all its blocks from cache.
+    std::vector<std::uint32_t> blocks_by_tile, tile_starts;
+    template <class Body>
+    void for_each_pixel_by_tile(std::uint32_t frame_index, Body&& body) {
+        const std::uint32_t width = r.settings_.width;
+        const std::uint32_t height = r.settings_.height;
+        const std::uint32_t block_columns = (width + pixel_block - 1u) / pixel_block;
+        const std::uint32_t block_count =
+            block_columns * ((height + pixel_block - 1u) / pixel_block);
+        tile_starts.assign(tile_count + 1u, 0u);
+        for (std::uint32_t b = 0; b < block_count; ++b)
+            ++tile_starts[tiles.tile_for(b, frame_index) + 1u];
+        for (std::uint32_t t = 0; t < tile_count; ++t)
+            tile_starts[t + 1u] += tile_starts[t];
+        blocks_by_tile.resize(block_count);
+        std::vector<std::uint32_t> next(tile_starts.begin(), tile_starts.end() - 1);
+        for (std::uint32_t b = 0; b < block_count; ++b)
+            blocks_by_tile[next[tiles.tile_for(b, frame_index)]++] = b;
+        arena.execute([&] {
+            tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0u, tile_count, 1u),
+                              [&](const tbb::blocked_range<std::uint32_t>& range) {
+                                  for (std::uint32_t k = tile_starts[range.begin()];
+                                       k < tile_starts[range.end()]; ++k) {
+                                      const std::uint32_t b = blocks_by_tile[k];
+                                      const std::uint32_t bx = b % block_columns;
+                                      const std::uint32_t by = b / block_columns;
+                                      const std::uint32_t y_end =
+                                          std::min(height, (by + 1u) * pixel_block);
+                                      const std::uint32_t x_end =
+                                          std::min(width, (bx + 1u) * pixel_block);
+                                      for (std::uint32_t y = by * pixel_block; y < y_end; ++y)
+                                          for (std::uint32_t x = bx * pixel_block; x < x_end; ++x)
+                                              body(x, y, x + y * width);
+                                  }
+                              });
+        });
+    }
+
     GSurface primary(std::uint32_t x, std::uint32_t y, restir::Pcg32& rng) const {
         // Pixel centres, or a random point of the pixel with antialiasing.
         const float jx = r.settings_.antialias ? next_float(rng) : 0.5f;
@@ -158,18 +198,18 @@ struct Renderer::Impl {
         const restir::UniformLightSampler uniform{lights.light_count()};
         const std::uint64_t seed = r.settings_.seed;
         arena.execute([&] {
-            tbb::parallel_for(
-                tbb::blocked_range<std::uint32_t>(0u, tile_count * tile_size, 256u),
-                [&](const tbb::blocked_range<std::uint32_t>& range) {
-                    for (std::uint32_t i = range.begin(); i < range.end(); ++i) {
-                        restir::Pcg32 rng = restir::make_pixel_rng(i, frame_index, 50u, seed);
-                        const restir::PresampledLight entry =
-                            r.settings_.source == CandidateSource::power
-                                ? restir::presample_light(power, lights, rng)
-                                : restir::presample_light(uniform, lights, rng);
-                        tiles.store(i / tile_size, i % tile_size, entry, falloff);
-                    }
-                });
+            tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0u, tile_count * tile_size, 256u),
+                              [&](const tbb::blocked_range<std::uint32_t>& range) {
+                                  for (std::uint32_t i = range.begin(); i < range.end(); ++i) {
+                                      restir::Pcg32 rng =
+                                          restir::make_pixel_rng(i, frame_index, 50u, seed);
+                                      const restir::PresampledLight entry =
+                                          r.settings_.source == CandidateSource::power
+                                              ? restir::presample_light(power, lights, rng)
+                                              : restir::presample_light(uniform, lights, rng);
+                                      tiles.store(i / tile_size, i % tile_size, entry, falloff);
+                                  }
+                              });
         });
     }
 
@@ -177,8 +217,9 @@ struct Renderer::Impl {
     // blocks of 8 consecutive entries: sampling/ris_batch.hpp).
     Reservoir initial_reservoir(std::uint32_t x, std::uint32_t y, std::uint32_t frame_index,
                                 const GSurface& s, restir::Pcg32& rng) const {
-        const std::uint32_t blocks_per_row = (r.settings_.width + 7u) / 8u;
-        const std::uint32_t tile = tiles.tile_for(x / 8u + (y / 8u) * blocks_per_row, frame_index);
+        const std::uint32_t blocks_per_row = (r.settings_.width + pixel_block - 1u) / pixel_block;
+        const std::uint32_t tile =
+            tiles.tile_for(x / pixel_block + (y / pixel_block) * blocks_per_row, frame_index);
         // Candidate blocks walk the tile's blocks from a random start with a random odd stride:
         // every candidate is a uniformly random entry (so its density is the entry's pdf), and
         // no block repeats within a pixel while there are enough of them.
@@ -420,7 +461,7 @@ FrameTimings Renderer::render_frame() {
         t.tiles = milliseconds_since(start);
         start = Clock::now();
         std::swap(im.reservoirs, im.previous_reservoirs);
-        im.for_each_pixel([&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
+        im.for_each_pixel_by_tile(frame, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
             const GSurface& s = im.surfaces[i];
             Reservoir& reservoir = im.reservoirs[i];
             reservoir = Reservoir{};
@@ -438,7 +479,14 @@ FrameTimings Renderer::render_frame() {
                 return im.point_target(sample, s);
             },
             im.point_visibility()};
-        const restir::ReuseParams reuse{rs.bias_correction, rs.visibility_reuse, rs.mis_rays};
+        // Every reservoir that enters a reuse pass has had its sample's visibility tested at its
+        // own surface (W = 0 if occluded): the initial ones, last frame's shaded ones, and those
+        // that come out of a pass that feeds another (tested here with one ray, which spares
+        // the MIS weights of the next pass k rays).
+        restir::ReuseParams reuse{rs.bias_correction, rs.visibility_reuse, rs.mis_rays};
+        reuse.inputs_visibility_tested = true;
+        const bool retest = rs.visibility_reuse && rs.mis_rays &&
+                            rs.bias_correction != restir::BiasCorrection::none;
 
         // Temporal reuse through reprojection of this frame's surfaces into the last camera.
         start = Clock::now();
@@ -462,9 +510,12 @@ FrameTimings Renderer::render_frame() {
             };
             im.for_each_pixel([&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
                 restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 2u, seed);
-                im.scratch[i] = restir::temporal_resample(
+                Reservoir& out = im.scratch[i];
+                out = restir::temporal_resample(
                     {static_cast<std::int32_t>(x), static_cast<std::int32_t>(y)}, im.reservoirs[i],
                     im.surfaces[i], previous, previous_surfaces, reproject, params, bridge, rng);
+                if (retest && rs.spatial_passes > 0 && im.surfaces[i].valid)
+                    restir::apply_visibility(out, im.surfaces[i], im.point_visibility());
             });
             std::swap(im.reservoirs, im.scratch);
         }
@@ -485,9 +536,12 @@ FrameTimings Renderer::render_frame() {
                                                            rs.height};
             im.for_each_pixel([&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
                 restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 3u + pass, seed);
-                im.scratch[i] = restir::spatial_resample(
+                Reservoir& out = im.scratch[i];
+                out = restir::spatial_resample(
                     {static_cast<std::int32_t>(x), static_cast<std::int32_t>(y)}, input,
                     surface_view, spatial, im.offsets, bridge, rng);
+                if (retest && pass + 1u < rs.spatial_passes && im.surfaces[i].valid)
+                    restir::apply_visibility(out, im.surfaces[i], im.point_visibility());
             });
             std::swap(im.reservoirs, im.scratch);
         }
@@ -501,11 +555,12 @@ FrameTimings Renderer::render_frame() {
             glm::vec3 color(0.0f);
             if (s.valid) {
                 Reservoir& reservoir = im.reservoirs[i];
-                color = s.emitted + (rs.visibility_reuse
-                                         ? (restir::apply_visibility(reservoir, s, im.point_visibility())
-                                                ? im.unshadowed(reservoir, s)
-                                                : glm::vec3(0.0f))
-                                         : im.shade(reservoir, s));
+                color = s.emitted +
+                        (rs.visibility_reuse
+                             ? (restir::apply_visibility(reservoir, s, im.point_visibility())
+                                    ? im.unshadowed(reservoir, s)
+                                    : glm::vec3(0.0f))
+                             : im.shade(reservoir, s));
                 if (gi_path) {
                     restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 100u, seed);
                     color += im.path_radiance(s, rng, false, true);
@@ -531,7 +586,7 @@ FrameTimings Renderer::render_frame() {
                 t.tiles += milliseconds_since(start);
             }
             start = Clock::now();
-            im.for_each_pixel([&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
+            const auto shade_pixel = [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
                 const GSurface& s = im.surfaces[i];
                 if (!s.valid)
                     return;
@@ -555,7 +610,11 @@ FrameTimings Renderer::render_frame() {
                 if (gi_path && rs.method != Method::reference)
                     color += im.path_radiance(s, rng, false, true);
                 frame_image_.pixels[i] += color / static_cast<float>(rs.spp);
-            });
+            };
+            if (rs.method == Method::ris)
+                im.for_each_pixel_by_tile(index, shade_pixel);
+            else
+                im.for_each_pixel(shade_pixel);
             t.shading += milliseconds_since(start);
         }
     }

@@ -52,11 +52,11 @@ struct Reservoir {
                                                    float target, std::uint32_t count,
                                                    float u) noexcept {
         RESTIR_ASSERT(u >= 0.0f && u < 1.0f);
-        if (!add_weight(weight, u, count))
-            return false;
-        sample = candidate;
-        target_value = target;
-        return true;
+        // Selects instead of a branch: whether a group wins is random.
+        const bool take = add_weight(weight, u, count);
+        sample = take ? candidate : sample;
+        target_value = take ? target : target_value;
+        return take;
     }
 
     /// Like `stream`, but builds the sample with `make_sample()` only when it is selected,

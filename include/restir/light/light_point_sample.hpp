@@ -51,7 +51,7 @@ RESTIR_HOST_DEVICE inline float folded_irradiance_factor(float x, float y, float
 struct LightPointSample {
     LightSampleRef reference{};
     glm::vec3 position{0.0f};
-    glm::vec3 normal{0.0f}; ///< Emitting side; zero for an isotropic light.
+    glm::vec3 normal{0.0f};    ///< Emitting side; zero for an isotropic light.
     glm::vec3 intensity{0.0f}; ///< Radiance / area_pdf (area lights), radiance (delta lights).
     /// The falloff of a delta light: r^2 of Yuksel's (> 0), -d_min^2 of the clamped inverse
     /// square (< 0), or 0 for the exact inverse square and for area lights.

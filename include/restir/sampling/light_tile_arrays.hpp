@@ -1,6 +1,6 @@
 /// @file sampling/light_tile_arrays.hpp
 /// Presampled light tiles (sampling/light_tiles.hpp) in a structure-of-arrays layout for
-/// batch RIS (sampling/ris_batch.hpp): each tile keeps one contiguous array per quantity, so
+/// batch RIS (sampling/ris_batch.hpp): entries keep one array per quantity in groups of 8, so
 /// that the target values of a block of consecutive entries are one plain loop over floats
 /// that the compiler vectorises. Every entry is folded as `folded_irradiance_factor` wants it,
 /// which makes area lights, VPLs and point lights one formula without branches.
@@ -33,20 +33,27 @@ enum class TilePlane : std::uint32_t {
     radiance_r, ///< Radiance / area_pdf for area lights, intensity for delta lights.
     radiance_g,
     radiance_b,
-    yuksel_radius_squared,  ///< r^2 of Yuksel's falloff for delta lights, else 0.
-    min_distance_squared,   ///< d_min^2 of the clamped falloff for delta lights, else 0.
-    inverse_pdf,            ///< 1 / p of the entry's source density (0 if p = 0).
-    delta,                  ///< 1 for a delta light (only `point_sample` reads it).
+    yuksel_radius_squared, ///< r^2 of Yuksel's falloff for delta lights, else 0.
+    min_distance_squared,  ///< d_min^2 of the clamped falloff for delta lights, else 0.
+    inverse_pdf,           ///< 1 / p of the entry's source density (0 if p = 0).
+    delta,                 ///< 1 for a delta light (only `point_sample` reads it).
     count
 };
 
 inline constexpr std::uint32_t tile_plane_count = static_cast<std::uint32_t>(TilePlane::count);
 
-/// `tile_count` tiles of `tile_size` presampled lights as planes of floats: tile t occupies
-/// floats [t * tile_size * tile_plane_count, (t + 1) * tile_size * tile_plane_count) of
-/// `planes`, plane k of it starting at k * tile_size there. `references` holds the entries'
-/// light references in entry order. A view over the caller's memory (device memory for a
-/// kernel); the caller refills it every frame.
+/// Entries are stored in groups of this many consecutive ones; a batch-RIS block covers whole
+/// groups.
+inline constexpr std::uint32_t tile_group_size = 8u;
+
+/// `tile_count` tiles of `tile_size` presampled lights (a multiple of `tile_group_size`), as
+/// planes of floats in groups ("array of structures of arrays"): the entries are cut into
+/// groups of `tile_group_size` consecutive ones, and group g keeps its planes one after the
+/// other, plane k of it at floats [(g * tile_plane_count + k) * tile_group_size, ... +
+/// tile_group_size) of `planes`. A group is 448 contiguous bytes, so a block of candidates reads
+/// neighbouring cache lines rather than one line in each of 14 distant arrays. `references`
+/// holds the entries' light references in entry order. A view over the caller's memory
+/// (device memory for a kernel); the caller refills it every frame.
 struct LightTileArrays {
     float* planes = nullptr;
     LightSampleRef* references = nullptr;
@@ -58,10 +65,19 @@ struct LightTileArrays {
         return std::uint64_t{tile_count} * tile_size * tile_plane_count;
     }
 
-    /// Plane `plane` of tile `tile`.
-    RESTIR_HOST_DEVICE constexpr float* plane(std::uint32_t tile, TilePlane plane) const noexcept {
-        return planes + (std::uint64_t{tile} * tile_plane_count + static_cast<std::uint32_t>(plane)) *
-                            tile_size;
+    /// Plane `plane` of the group that starts at global entry `entry` (a multiple of
+    /// `tile_group_size`): `tile_group_size` floats.
+    RESTIR_HOST_DEVICE constexpr float* group_plane(std::uint64_t entry,
+                                                    TilePlane plane) const noexcept {
+        return planes +
+               (entry / tile_group_size * tile_plane_count + static_cast<std::uint32_t>(plane)) *
+                   tile_group_size;
+    }
+
+    /// Value of plane `plane` for global entry `entry` (tile t's entries are [t * tile_size,
+    /// (t + 1) * tile_size)).
+    RESTIR_HOST_DEVICE constexpr float& value(std::uint64_t entry, TilePlane plane) const noexcept {
+        return group_plane(entry - entry % tile_group_size, plane)[entry % tile_group_size];
     }
 
     /// The tile that a group of pixels uses in `frame` (the hash of `LightTilesView::tile_for`).
@@ -73,9 +89,7 @@ struct LightTileArrays {
     /// Entry `entry` (a global index, as `evaluate_tile_block` hands out) as a light sample with
     /// its point, for reservoirs that reuse it without light lookups.
     RESTIR_HOST_DEVICE LightPointSample point_sample(std::uint32_t entry) const {
-        const std::uint32_t tile = entry / tile_size;
-        const std::uint32_t index = entry % tile_size;
-        const auto get = [&](TilePlane k) { return plane(tile, k)[index]; };
+        const auto get = [&](TilePlane k) { return value(entry, k); };
         LightPointSample s;
         s.reference = references[entry];
         s.position = {get(TilePlane::position_x), get(TilePlane::position_y),
@@ -96,7 +110,8 @@ struct LightTileArrays {
         const LightPointSample s = make_light_point_sample(entry.reference, entry.point, falloff);
         const bool usable = entry.pdf > 0.0f;
         const bool isotropic = s.normal.x == 0.0f && s.normal.y == 0.0f && s.normal.z == 0.0f;
-        const auto put = [&](TilePlane k, float value) { plane(tile, k)[index] = value; };
+        const std::uint64_t global = std::uint64_t{tile} * tile_size + index;
+        const auto put = [&](TilePlane k, float v) { value(global, k) = v; };
         put(TilePlane::position_x, s.position.x);
         put(TilePlane::position_y, s.position.y);
         put(TilePlane::position_z, s.position.z);
@@ -111,47 +126,63 @@ struct LightTileArrays {
         put(TilePlane::min_distance_squared, max_of(-s.falloff, 0.0f));
         put(TilePlane::inverse_pdf, usable ? 1.0f / entry.pdf : 0.0f);
         put(TilePlane::delta, s.is_delta ? 1.0f : 0.0f);
-        references[std::uint64_t{tile} * tile_size + index] = entry.reference;
+        references[global] = entry.reference;
     }
 };
 
 /// Target values of the `Size` consecutive entries [first, first + Size) of tile `tile` at a
 /// receiver (`position`, `normal`): p-hat_i = dot(channel_weights, E_i), E_i the unshadowed
 /// irradiance (`folded_irradiance_factor` times the entry's intensity; channel_weights =
-/// albedo / pi gives the channel sum of a diffuse receiver's reflected radiance). Fills
-/// `block` and returns the global entry index of its lane 0, as `resample_ris_batch` expects.
+/// albedo / pi gives the channel sum of a diffuse receiver's reflected radiance). `Size` and
+/// `first` are multiples of `tile_group_size`. Fills `block` and returns the global entry
+/// index of its lane 0, as `resample_ris_batch` expects.
 template <std::uint32_t Size>
-RESTIR_HOST_DEVICE std::uint32_t evaluate_tile_block(const LightTileArrays& tiles,
-                                                     std::uint32_t tile, std::uint32_t first,
-                                                     glm::vec3 position, glm::vec3 normal,
-                                                     glm::vec3 channel_weights,
-                                                     CandidateBlock<Size>& block) {
-    RESTIR_ASSERT(tile < tiles.tile_count && first + Size <= tiles.tile_size);
-    const auto at = [&](TilePlane k) { return tiles.plane(tile, k) + first; };
-    const float* px = at(TilePlane::position_x);
-    const float* py = at(TilePlane::position_y);
-    const float* pz = at(TilePlane::position_z);
-    const float* nx = at(TilePlane::normal_x);
-    const float* ny = at(TilePlane::normal_y);
-    const float* nz = at(TilePlane::normal_z);
-    const float* isotropic = at(TilePlane::isotropic);
-    const float* red = at(TilePlane::radiance_r);
-    const float* green = at(TilePlane::radiance_g);
-    const float* blue = at(TilePlane::radiance_b);
-    const float* radius2 = at(TilePlane::yuksel_radius_squared);
-    const float* min_distance2 = at(TilePlane::min_distance_squared);
-    const float* inverse_pdf = at(TilePlane::inverse_pdf);
-    for (std::uint32_t i = 0; i < Size; ++i) {
-        const float factor = folded_irradiance_factor(
-            px[i] - position.x, py[i] - position.y, pz[i] - position.z, normal, nx[i], ny[i],
-            nz[i], isotropic[i], radius2[i], min_distance2[i]);
-        const float intensity =
-            channel_weights.x * red[i] + channel_weights.y * green[i] + channel_weights.z * blue[i];
-        const float target = intensity * factor;
-        block.target[i] = is_valid_weight(target) ? target : 0.0f;
-        block.inverse_pdf[i] = inverse_pdf[i];
+RESTIR_HOST_DEVICE std::uint32_t
+evaluate_tile_block(const LightTileArrays& tiles, std::uint32_t tile, std::uint32_t first,
+                    glm::vec3 position, glm::vec3 normal, glm::vec3 channel_weights,
+                    CandidateBlock<Size>& block) {
+    static_assert(Size % tile_group_size == 0u, "blocks cover whole groups of tile entries");
+    RESTIR_ASSERT(tile < tiles.tile_count && first + Size <= tiles.tile_size &&
+                  first % tile_group_size == 0u);
+    constexpr std::uint32_t lanes = tile_group_size;
+    const std::uint32_t base = tile * tiles.tile_size + first;
+    for (std::uint32_t group = 0; group < Size / lanes; ++group) {
+        const std::uint64_t entry = std::uint64_t{base} + group * lanes;
+        const auto at = [&](TilePlane k) { return tiles.group_plane(entry, k); };
+        const float* px = at(TilePlane::position_x);
+        const float* py = at(TilePlane::position_y);
+        const float* pz = at(TilePlane::position_z);
+        const float* nx = at(TilePlane::normal_x);
+        const float* ny = at(TilePlane::normal_y);
+        const float* nz = at(TilePlane::normal_z);
+        const float* isotropic = at(TilePlane::isotropic);
+        const float* red = at(TilePlane::radiance_r);
+        const float* green = at(TilePlane::radiance_g);
+        const float* blue = at(TilePlane::radiance_b);
+        const float* radius2 = at(TilePlane::yuksel_radius_squared);
+        const float* min_distance2 = at(TilePlane::min_distance_squared);
+        const float* inverse_pdf = at(TilePlane::inverse_pdf);
+        // Results go to local arrays first: `block` could alias the planes as far as the
+        // compiler knows, and it will not check 15 pointers for overlap at run time, so it
+        // would not vectorise the loop.
+        float target[lanes];
+        float weight_scale[lanes];
+        for (std::uint32_t i = 0; i < lanes; ++i) {
+            const float factor = folded_irradiance_factor(
+                px[i] - position.x, py[i] - position.y, pz[i] - position.z, normal, nx[i], ny[i],
+                nz[i], isotropic[i], radius2[i], min_distance2[i]);
+            const float intensity = channel_weights.x * red[i] + channel_weights.y * green[i] +
+                                    channel_weights.z * blue[i];
+            const float v = intensity * factor;
+            target[i] = is_valid_weight(v) ? v : 0.0f;
+            weight_scale[i] = inverse_pdf[i];
+        }
+        for (std::uint32_t i = 0; i < lanes; ++i) {
+            block.target[group * lanes + i] = target[i];
+            block.inverse_pdf[group * lanes + i] = weight_scale[i];
+        }
     }
-    return tile * tiles.tile_size + first;
+    return base;
 }
 
 } // namespace restir

@@ -32,9 +32,9 @@ struct CandidateBlock {
 
 /// One block's resampling: the sum of its weights and the lane chosen in proportion to them.
 struct BlockSelection {
-    float weight_sum = 0.0f;  ///< S = sum of the valid weights w_i of the block.
-    float target = 0.0f;      ///< p-hat of the chosen lane.
-    std::uint32_t lane = 0u;  ///< The chosen lane; meaningless when `weight_sum` is 0.
+    float weight_sum = 0.0f; ///< S = sum of the valid weights w_i of the block.
+    float target = 0.0f;     ///< p-hat of the chosen lane.
+    std::uint32_t lane = 0u; ///< The chosen lane; meaningless when `weight_sum` is 0.
 };
 
 /// Chooses a lane of `block` with probability w_i / S from one uniform number `u` in [0, 1)
@@ -44,30 +44,39 @@ struct BlockSelection {
 template <std::uint32_t Size>
 RESTIR_HOST_DEVICE constexpr BlockSelection select_in_block(const CandidateBlock<Size>& block,
                                                             float u) noexcept {
+    // Branch-free throughout: which lane wins is random, so branches would mispredict. Each
+    // step is its own loop of like statements, which compilers turn into vector code.
     float weight[Size];
     for (std::uint32_t i = 0; i < Size; ++i) {
         const float w = block.target[i] * block.inverse_pdf[i];
-        weight[i] = is_valid_weight(w) ? w : 0.0f;
+        // Not NaN, not negative, not infinite (a NaN fails both comparisons).
+        weight[i] = w >= 0.0f && w <= 3.40282347e38f ? w : 0.0f;
     }
-    // Inclusive prefix sums; the chosen lane is the number of prefixes at or below u * S.
     float prefix[Size];
     float running = 0.0f;
     for (std::uint32_t i = 0; i < Size; ++i) {
         running += weight[i];
         prefix[i] = running;
     }
+    // The chosen lane is the number of inclusive prefix sums at or below u * S (inversion of
+    // the block's cdf); its target is gathered by masks, not by a runtime index.
+    const float threshold = u * running;
+    std::uint32_t below[Size]; // 1 where prefix_i <= u S; 0 for the last lane
+    for (std::uint32_t i = 0; i < Size; ++i)
+        below[i] = i + 1u < Size && prefix[i] <= threshold ? 1u : 0u;
+    std::uint32_t lane = 0u;
+    for (std::uint32_t i = 0; i < Size; ++i)
+        lane += below[i];
+    std::uint32_t target_bits = 0u;
+    for (std::uint32_t i = 0; i < Size; ++i) {
+        // Lane i is the chosen one when the prefix before it is at or below u S and its own is not.
+        const std::uint32_t chosen = (i == 0u ? 1u : below[i - 1u]) & (below[i] ^ 1u);
+        target_bits |= __builtin_bit_cast(std::uint32_t, block.target[i]) & (0u - chosen);
+    }
     BlockSelection selection;
     selection.weight_sum = running;
-    const float threshold = u * running;
-    std::uint32_t lane = 0u;
-    for (std::uint32_t i = 0; i + 1u < Size; ++i)
-        lane += prefix[i] <= threshold ? 1u : 0u;
-    // The lane's target by selects, not by a runtime index.
-    float target = 0.0f;
-    for (std::uint32_t i = 0; i < Size; ++i)
-        target = i == lane ? block.target[i] : target;
+    selection.target = __builtin_bit_cast(float, target_bits);
     selection.lane = lane;
-    selection.target = target;
     return selection;
 }
 
@@ -81,11 +90,15 @@ RESTIR_HOST_DEVICE constexpr BlockSelection select_in_block(const CandidateBlock
 /// numbers per block (the block's lane, then the reservoir update) instead of one per
 /// candidate. f(y) W is unbiased under the conditions of `resample_ris`.
 template <std::uint32_t BlockSize, UniformRng Rng, class EvaluateBlock>
-requires std::invocable<EvaluateBlock&, std::uint32_t, CandidateBlock<BlockSize>&>
-RESTIR_HOST_DEVICE Reservoir<std::uint32_t>
-resample_ris_batch(Rng& rng, std::uint32_t candidate_count, EvaluateBlock&& evaluate_block) {
-    Reservoir<std::uint32_t> reservoir;
+requires std::invocable < EvaluateBlock&, std::uint32_t, CandidateBlock<BlockSize>
+& > RESTIR_HOST_DEVICE Reservoir<std::uint32_t>
+    resample_ris_batch(Rng& rng, std::uint32_t candidate_count, EvaluateBlock&& evaluate_block) {
     const std::uint32_t block_count = (candidate_count + BlockSize - 1u) / BlockSize;
+    // Alg. 2 applied to whole blocks (what Reservoir::stream_group does), kept in masks rather
+    // than branches: whether a block wins is random, and a branch on it mispredicts often.
+    float weight_sum = 0.0f;
+    std::uint32_t chosen = 0u;
+    std::uint32_t chosen_target_bits = 0u;
     for (std::uint32_t b = 0; b < block_count; ++b) {
         CandidateBlock<BlockSize> block;
         const auto first = static_cast<std::uint32_t>(evaluate_block(b, block));
@@ -93,10 +106,25 @@ resample_ris_batch(Rng& rng, std::uint32_t candidate_count, EvaluateBlock&& eval
         if (lanes < BlockSize)
             for (std::uint32_t i = 0; i < BlockSize; ++i)
                 block.inverse_pdf[i] = i < lanes ? block.inverse_pdf[i] : 0.0f;
-        const BlockSelection chosen = select_in_block(block, next_float(rng));
-        reservoir.stream_group(first + chosen.lane, chosen.weight_sum, chosen.target, lanes,
-                               next_float(rng));
+        const BlockSelection selection = select_in_block(block, next_float(rng));
+        const float u = next_float(rng);
+        RESTIR_ASSERT(u >= 0.0f && u < 1.0f);
+        const float new_sum = weight_sum + selection.weight_sum;
+        // A sum that overflows drops the block, as Reservoir::stream does.
+        const std::uint32_t usable = is_finite(new_sum) ? ~0u : 0u;
+        const std::uint32_t take = usable & (u * new_sum < selection.weight_sum ? ~0u : 0u);
+        weight_sum = __builtin_bit_cast(
+            float, (__builtin_bit_cast(std::uint32_t, new_sum) & usable) |
+                       (__builtin_bit_cast(std::uint32_t, weight_sum) & ~usable));
+        chosen = ((first + selection.lane) & take) | (chosen & ~take);
+        chosen_target_bits = (__builtin_bit_cast(std::uint32_t, selection.target) & take) |
+                             (chosen_target_bits & ~take);
     }
+    Reservoir<std::uint32_t> reservoir;
+    reservoir.sample = chosen;
+    reservoir.weight_sum = weight_sum;
+    reservoir.target_value = __builtin_bit_cast(float, chosen_target_bits);
+    reservoir.candidate_count = candidate_count;
     reservoir.finalize();
     return reservoir;
 }
