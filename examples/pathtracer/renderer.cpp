@@ -9,6 +9,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -104,79 +105,124 @@ struct Renderer::Impl {
 
     // --- Pixels --------------------------------------------------------------------------
     // Pixels in 8 x 8 blocks, the blocks spread over the threads: a block's pixels share one
-    // light tile (initial candidates), nearby reservoirs (reuse) and coherent rays.
+    // light tile (initial candidates), nearby reservoirs (reuse) and coherent rays, which are
+    // traced together as Embree packets.
     static constexpr std::uint32_t pixel_block = 8;
+    struct PixelBlock {
+        std::uint32_t x0, y0, x1, y1; // [x0, x1) x [y0, y1)
+    };
+    PixelBlock block_at(std::uint32_t b) const {
+        const std::uint32_t columns = (r.settings_.width + pixel_block - 1u) / pixel_block;
+        const std::uint32_t x0 = b % columns * pixel_block;
+        const std::uint32_t y0 = b / columns * pixel_block;
+        return {x0, y0, std::min(r.settings_.width, x0 + pixel_block),
+                std::min(r.settings_.height, y0 + pixel_block)};
+    }
+    std::uint32_t block_count() const {
+        return ((r.settings_.width + pixel_block - 1u) / pixel_block) *
+               ((r.settings_.height + pixel_block - 1u) / pixel_block);
+    }
     template <class Body>
-    void for_each_pixel(Body&& body) {
-        const std::uint32_t width = r.settings_.width;
-        const std::uint32_t height = r.settings_.height;
-        const std::uint32_t block_rows = (height + pixel_block - 1u) / pixel_block;
-        const std::uint32_t block_columns = (width + pixel_block - 1u) / pixel_block;
+    void for_each_pixel_of(const PixelBlock& block, Body&& body) const {
+        for (std::uint32_t y = block.y0; y < block.y1; ++y)
+            for (std::uint32_t x = block.x0; x < block.x1; ++x)
+                body(x, y, x + y * r.settings_.width);
+    }
+    template <class BlockBody>
+    void for_each_block(BlockBody&& body) {
         arena.execute([&] {
-            tbb::parallel_for(
-                tbb::blocked_range2d<std::uint32_t>(0, block_rows, 1, 0, block_columns, 4),
-                [&](const tbb::blocked_range2d<std::uint32_t>& blocks) {
-                    for (std::uint32_t by = blocks.rows().begin(); by < blocks.rows().end(); ++by)
-                        for (std::uint32_t bx = blocks.cols().begin(); bx < blocks.cols().end();
-                             ++bx) {
-                            const std::uint32_t y_end = std::min(height, (by + 1u) * pixel_block);
-                            const std::uint32_t x_end = std::min(width, (bx + 1u) * pixel_block);
-                            for (std::uint32_t y = by * pixel_block; y < y_end; ++y)
-                                for (std::uint32_t x = bx * pixel_block; x < x_end; ++x)
-                                    body(x, y, x + y * width);
-                        }
-                });
+            tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0u, block_count(), 4u),
+                              [&](const tbb::blocked_range<std::uint32_t>& range) {
+                                  for (std::uint32_t b = range.begin(); b < range.end(); ++b)
+                                      body(block_at(b));
+                              });
         });
     }
-
-    // Pixels in 8 x 8 blocks grouped by the light tile each block draws its candidates from
-    // in `frame_index`, the tiles spread over the threads: each tile is read from memory once
-    // and then serves all its blocks from cache.
-    std::vector<std::uint32_t> blocks_by_tile, tile_starts;
     template <class Body>
-    void for_each_pixel_by_tile(std::uint32_t frame_index, Body&& body) {
-        const std::uint32_t width = r.settings_.width;
-        const std::uint32_t height = r.settings_.height;
-        const std::uint32_t block_columns = (width + pixel_block - 1u) / pixel_block;
-        const std::uint32_t block_count =
-            block_columns * ((height + pixel_block - 1u) / pixel_block);
+    void for_each_pixel(Body&& body) {
+        for_each_block([&](const PixelBlock& block) { for_each_pixel_of(block, body); });
+    }
+
+    // The blocks grouped by the light tile each draws its candidates from in `frame_index`,
+    // the tiles spread over the threads: each tile is read from memory once and then serves
+    // all its blocks from cache.
+    std::vector<std::uint32_t> blocks_by_tile, tile_starts;
+    template <class BlockBody>
+    void for_each_block_by_tile(std::uint32_t frame_index, BlockBody&& body) {
+        const std::uint32_t count = block_count();
         tile_starts.assign(tile_count + 1u, 0u);
-        for (std::uint32_t b = 0; b < block_count; ++b)
+        for (std::uint32_t b = 0; b < count; ++b)
             ++tile_starts[tiles.tile_for(b, frame_index) + 1u];
         for (std::uint32_t t = 0; t < tile_count; ++t)
             tile_starts[t + 1u] += tile_starts[t];
-        blocks_by_tile.resize(block_count);
+        blocks_by_tile.resize(count);
         std::vector<std::uint32_t> next(tile_starts.begin(), tile_starts.end() - 1);
-        for (std::uint32_t b = 0; b < block_count; ++b)
+        for (std::uint32_t b = 0; b < count; ++b)
             blocks_by_tile[next[tiles.tile_for(b, frame_index)]++] = b;
         arena.execute([&] {
             tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0u, tile_count, 1u),
                               [&](const tbb::blocked_range<std::uint32_t>& range) {
                                   for (std::uint32_t k = tile_starts[range.begin()];
-                                       k < tile_starts[range.end()]; ++k) {
-                                      const std::uint32_t b = blocks_by_tile[k];
-                                      const std::uint32_t bx = b % block_columns;
-                                      const std::uint32_t by = b / block_columns;
-                                      const std::uint32_t y_end =
-                                          std::min(height, (by + 1u) * pixel_block);
-                                      const std::uint32_t x_end =
-                                          std::min(width, (bx + 1u) * pixel_block);
-                                      for (std::uint32_t y = by * pixel_block; y < y_end; ++y)
-                                          for (std::uint32_t x = bx * pixel_block; x < x_end; ++x)
-                                              body(x, y, x + y * width);
-                                  }
+                                       k < tile_starts[range.end()]; ++k)
+                                      body(block_at(blocks_by_tile[k]));
                               });
         });
     }
 
-    GSurface primary(std::uint32_t x, std::uint32_t y, restir::Pcg32& rng) const {
-        // Pixel centres, or a random point of the pixel with antialiasing.
-        const float jx = r.settings_.antialias ? next_float(rng) : 0.5f;
-        const float jy = r.settings_.antialias ? next_float(rng) : 0.5f;
-        const glm::vec3 direction =
-            camera.direction({static_cast<float>(x) + jx, static_cast<float>(y) + jy});
-        const Hit hit = r.rays_.closest_hit(camera.position(), direction);
-        return hit.found ? surface_at(hit, direction) : GSurface{};
+    // Primary hits of a block's pixels (centres, or random points with antialiasing), as one
+    // packet query.
+    void trace_primary(const PixelBlock& block, std::uint32_t frame_index) {
+        std::array<glm::vec3, pixel_block * pixel_block> directions;
+        std::array<Hit, pixel_block * pixel_block> hits;
+        std::size_t n = 0;
+        for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
+            float jx = 0.5f, jy = 0.5f;
+            if (r.settings_.antialias) {
+                restir::Pcg32 rng = restir::make_pixel_rng(i, frame_index, 0u, r.settings_.seed);
+                jx = next_float(rng);
+                jy = next_float(rng);
+            }
+            directions[n++] =
+                camera.direction({static_cast<float>(x) + jx, static_cast<float>(y) + jy});
+        });
+        r.rays_.closest_hits(camera.position(), std::span(directions.data(), n),
+                             std::span(hits.data(), n));
+        n = 0;
+        for_each_pixel_of(block, [&](std::uint32_t, std::uint32_t, std::uint32_t i) {
+            surfaces[i] = hits[n].found ? surface_at(hits[n], directions[n]) : GSurface{};
+            ++n;
+        });
+    }
+
+    // Visibility reuse for a block: every pixel's reservoir (`reservoir(i)`) whose sample is
+    // occluded from its surface gets W = 0, the shadow rays traced as one packet query.
+    // Returns nothing; `visible_out(i, bool)` hears each tested pixel's answer.
+    template <class ReservoirAt, class Visible>
+    void test_visibility(const PixelBlock& block, ReservoirAt&& reservoir, Visible&& visible_out) {
+        std::array<glm::vec3, pixel_block * pixel_block> from, to;
+        std::array<std::uint32_t, pixel_block * pixel_block> pixel;
+        std::array<std::uint8_t, pixel_block * pixel_block> blocked;
+        std::size_t n = 0;
+        const restir::LightPointVisibility<EmbreeScene> visibility = point_visibility();
+        for_each_pixel_of(block, [&](std::uint32_t, std::uint32_t, std::uint32_t i) {
+            const Reservoir& res = reservoir(i);
+            if (!surfaces[i].valid || !res.has_sample())
+                return;
+            const restir::ShadowSegment segment = visibility.segment(res.sample, surfaces[i]);
+            from[n] = segment.from;
+            to[n] = segment.to;
+            pixel[n++] = i;
+        });
+        r.rays_.occluded_segments(std::span(from.data(), n), std::span(to.data(), n),
+                                  std::span(blocked.data(), n));
+        for (std::size_t k = 0; k < n; ++k) {
+            restir::apply_visibility(reservoir(pixel[k]), blocked[k] == 0u);
+            visible_out(pixel[k], blocked[k] == 0u);
+        }
+    }
+    template <class ReservoirAt>
+    void test_visibility(const PixelBlock& block, ReservoirAt&& reservoir) {
+        test_visibility(block, reservoir, [](std::uint32_t, bool) {});
     }
 
     // Presampled light tiles, refilled for every frame (and sample), in the structure-of-arrays
@@ -253,16 +299,23 @@ struct Renderer::Impl {
                    : glm::vec3(0.0f);
     }
 
-    // One uniformly chosen light sample, f / p.
-    glm::vec3 uniform_estimate(const GSurface& s, restir::Pcg32& rng) const {
+    // One uniformly chosen light sample as a one-candidate reservoir: W = 1 / p, so that
+    // f W = f / p (shaded after its shadow ray, as RIS's are).
+    Reservoir uniform_reservoir(const GSurface& s, restir::Pcg32& rng) const {
         const restir::DiscreteSample c =
             restir::sample_light(restir::UniformLightSampler{lights.light_count()}, rng);
         const float u = next_float(rng);
         const float v = next_float(rng);
+        Reservoir reservoir;
+        if (!(c.pmf > 0.0f))
+            return reservoir;
         const restir::LightSampleRef ref{c.index, {u, v}};
-        if (!(c.pmf > 0.0f) || !visible(ref, s))
-            return glm::vec3(0.0f);
-        return reflected(s, lights.sample_point(ref.light_id, ref.uv)) / c.pmf;
+        const restir::LightPointSample sample = restir::make_light_point_sample(
+            ref, lights.sample_point(ref.light_id, ref.uv), falloff);
+        const float target = point_target(sample, s);
+        reservoir.stream(sample, target / c.pmf, target, 0.0f);
+        reservoir.finalize();
+        return reservoir;
     }
 
     // --- Path tracing ----------------------------------------------------------------------
@@ -449,10 +502,7 @@ FrameTimings Renderer::render_frame() {
         // Primary rays.
         auto start = Clock::now();
         std::swap(im.surfaces, im.previous_surfaces);
-        im.for_each_pixel([&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
-            restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 0u, seed);
-            im.surfaces[i] = im.primary(x, y, rng);
-        });
+        im.for_each_block([&](const Impl::PixelBlock& block) { im.trace_primary(block, frame); });
         t.primary = milliseconds_since(start);
 
         // Initial candidates (and their visibility, for visibility reuse).
@@ -461,16 +511,20 @@ FrameTimings Renderer::render_frame() {
         t.tiles = milliseconds_since(start);
         start = Clock::now();
         std::swap(im.reservoirs, im.previous_reservoirs);
-        im.for_each_pixel_by_tile(frame, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
-            const GSurface& s = im.surfaces[i];
-            Reservoir& reservoir = im.reservoirs[i];
-            reservoir = Reservoir{};
-            if (!s.valid)
-                return;
-            restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 1u, seed);
-            reservoir = im.initial_reservoir(x, y, frame, s, rng);
+        const auto reservoir_at = [&im](std::uint32_t i) -> Reservoir& { return im.reservoirs[i]; };
+        const auto scratch_at = [&im](std::uint32_t i) -> Reservoir& { return im.scratch[i]; };
+        im.for_each_block_by_tile(frame, [&](const Impl::PixelBlock& block) {
+            im.for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
+                const GSurface& s = im.surfaces[i];
+                Reservoir& reservoir = im.reservoirs[i];
+                reservoir = Reservoir{};
+                if (!s.valid)
+                    return;
+                restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 1u, seed);
+                reservoir = im.initial_reservoir(x, y, frame, s, rng);
+            });
             if (rs.visibility_reuse)
-                restir::apply_visibility(reservoir, s, im.point_visibility());
+                im.test_visibility(block, reservoir_at);
         });
         t.candidates = milliseconds_since(start);
 
@@ -508,14 +562,16 @@ FrameTimings Renderer::render_frame() {
                 return restir::PixelCoord{static_cast<std::int32_t>(std::floor(q.x)),
                                           static_cast<std::int32_t>(std::floor(q.y))};
             };
-            im.for_each_pixel([&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
-                restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 2u, seed);
-                Reservoir& out = im.scratch[i];
-                out = restir::temporal_resample(
-                    {static_cast<std::int32_t>(x), static_cast<std::int32_t>(y)}, im.reservoirs[i],
-                    im.surfaces[i], previous, previous_surfaces, reproject, params, bridge, rng);
-                if (retest && rs.spatial_passes > 0 && im.surfaces[i].valid)
-                    restir::apply_visibility(out, im.surfaces[i], im.point_visibility());
+            im.for_each_block([&](const Impl::PixelBlock& block) {
+                im.for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
+                    restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 2u, seed);
+                    im.scratch[i] = restir::temporal_resample(
+                        {static_cast<std::int32_t>(x), static_cast<std::int32_t>(y)},
+                        im.reservoirs[i], im.surfaces[i], previous, previous_surfaces, reproject,
+                        params, bridge, rng);
+                });
+                if (retest && rs.spatial_passes > 0)
+                    im.test_visibility(block, scratch_at);
             });
             std::swap(im.reservoirs, im.scratch);
         }
@@ -534,14 +590,15 @@ FrameTimings Renderer::render_frame() {
         for (std::uint32_t pass = 0; pass < rs.spatial_passes; ++pass) {
             const restir::ImageView<const Reservoir> input{im.reservoirs.data(), rs.width,
                                                            rs.height};
-            im.for_each_pixel([&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
-                restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 3u + pass, seed);
-                Reservoir& out = im.scratch[i];
-                out = restir::spatial_resample(
-                    {static_cast<std::int32_t>(x), static_cast<std::int32_t>(y)}, input,
-                    surface_view, spatial, im.offsets, bridge, rng);
-                if (retest && pass + 1u < rs.spatial_passes && im.surfaces[i].valid)
-                    restir::apply_visibility(out, im.surfaces[i], im.point_visibility());
+            im.for_each_block([&](const Impl::PixelBlock& block) {
+                im.for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
+                    restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 3u + pass, seed);
+                    im.scratch[i] = restir::spatial_resample(
+                        {static_cast<std::int32_t>(x), static_cast<std::int32_t>(y)}, input,
+                        surface_view, spatial, im.offsets, bridge, rng);
+                });
+                if (retest && pass + 1u < rs.spatial_passes)
+                    im.test_visibility(block, scratch_at);
             });
             std::swap(im.reservoirs, im.scratch);
         }
@@ -550,23 +607,23 @@ FrameTimings Renderer::render_frame() {
         // Shading: the final visibility ray, which with visibility reuse also zeroes W of an
         // occluded sample before the reservoir becomes next frame's history.
         start = Clock::now();
-        im.for_each_pixel([&](std::uint32_t, std::uint32_t, std::uint32_t i) {
-            const GSurface& s = im.surfaces[i];
-            glm::vec3 color(0.0f);
-            if (s.valid) {
-                Reservoir& reservoir = im.reservoirs[i];
-                color = s.emitted +
-                        (rs.visibility_reuse
-                             ? (restir::apply_visibility(reservoir, s, im.point_visibility())
-                                    ? im.unshadowed(reservoir, s)
-                                    : glm::vec3(0.0f))
-                             : im.shade(reservoir, s));
-                if (gi_path) {
-                    restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 100u, seed);
-                    color += im.path_radiance(s, rng, false, true);
+        im.for_each_block([&](const Impl::PixelBlock& block) {
+            if (rs.visibility_reuse)
+                im.test_visibility(block, reservoir_at); // W = 0 where occluded
+            im.for_each_pixel_of(block, [&](std::uint32_t, std::uint32_t, std::uint32_t i) {
+                const GSurface& s = im.surfaces[i];
+                glm::vec3 color(0.0f);
+                if (s.valid) {
+                    const Reservoir& reservoir = im.reservoirs[i];
+                    color = s.emitted + (rs.visibility_reuse ? im.unshadowed(reservoir, s)
+                                                             : im.shade(reservoir, s));
+                    if (gi_path) {
+                        restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 100u, seed);
+                        color += im.path_radiance(s, rng, false, true);
+                    }
                 }
-            }
-            frame_image_.pixels[i] = color;
+                frame_image_.pixels[i] = color;
+            });
         });
         t.shading = milliseconds_since(start);
     } else {
@@ -575,10 +632,8 @@ FrameTimings Renderer::render_frame() {
         for (std::uint32_t sample = 0; sample < rs.spp; ++sample) {
             const std::uint32_t index = frame * rs.spp + sample;
             auto start = Clock::now();
-            im.for_each_pixel([&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
-                restir::Pcg32 rng = restir::make_pixel_rng(i, index, 0u, seed);
-                im.surfaces[i] = im.primary(x, y, rng);
-            });
+            im.for_each_block(
+                [&](const Impl::PixelBlock& block) { im.trace_primary(block, index); });
             t.primary += milliseconds_since(start);
             if (rs.method == Method::ris) {
                 start = Clock::now();
@@ -586,35 +641,50 @@ FrameTimings Renderer::render_frame() {
                 t.tiles += milliseconds_since(start);
             }
             start = Clock::now();
-            const auto shade_pixel = [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
-                const GSurface& s = im.surfaces[i];
-                if (!s.valid)
-                    return;
-                restir::Pcg32 rng = restir::make_pixel_rng(i, index, 1u, seed);
-                glm::vec3 color = s.emitted;
-                switch (rs.method) {
-                case Method::uniform:
-                    color += im.uniform_estimate(s, rng);
-                    break;
-                case Method::ris:
-                    color += im.shade(im.initial_reservoir(x, y, index, s, rng), s);
-                    break;
-                case Method::reference:
-                    color += im.path_radiance(s, rng, true, gi_path);
-                    if (rs.gi == GlobalIllumination::vpl)
-                        color += im.vpl_nee(s, rng);
-                    break;
-                case Method::restir:
-                    break;
-                }
-                if (gi_path && rs.method != Method::reference)
-                    color += im.path_radiance(s, rng, false, true);
-                frame_image_.pixels[i] += color / static_cast<float>(rs.spp);
+            // uniform and ris: one light sample per pixel as a reservoir (uniform: one candidate,
+            // W = 1 / p), their shadow rays as one packet per block.
+            const auto shade_block = [&](const Impl::PixelBlock& block) {
+                std::array<Reservoir, Impl::pixel_block * Impl::pixel_block> picked;
+                std::array<restir::Pcg32, Impl::pixel_block * Impl::pixel_block> rngs;
+                const auto local = [&block, &rs](std::uint32_t i) {
+                    return (i / rs.width - block.y0) * Impl::pixel_block + i % rs.width - block.x0;
+                };
+                im.for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
+                    restir::Pcg32& rng = rngs[local(i)];
+                    rng = restir::make_pixel_rng(i, index, 1u, seed);
+                    Reservoir& reservoir = picked[local(i)];
+                    reservoir = Reservoir{};
+                    const GSurface& s = im.surfaces[i];
+                    if (!s.valid || rs.method == Method::reference)
+                        return;
+                    reservoir = rs.method == Method::ris ? im.initial_reservoir(x, y, index, s, rng)
+                                                         : im.uniform_reservoir(s, rng);
+                });
+                if (rs.method != Method::reference)
+                    im.test_visibility(
+                        block, [&](std::uint32_t i) -> Reservoir& { return picked[local(i)]; });
+                im.for_each_pixel_of(block, [&](std::uint32_t, std::uint32_t, std::uint32_t i) {
+                    const GSurface& s = im.surfaces[i];
+                    if (!s.valid)
+                        return;
+                    restir::Pcg32& rng = rngs[local(i)];
+                    glm::vec3 color = s.emitted;
+                    if (rs.method == Method::reference) {
+                        color += im.path_radiance(s, rng, true, gi_path);
+                        if (rs.gi == GlobalIllumination::vpl)
+                            color += im.vpl_nee(s, rng);
+                    } else {
+                        color += im.unshadowed(picked[local(i)], s);
+                        if (gi_path)
+                            color += im.path_radiance(s, rng, false, true);
+                    }
+                    frame_image_.pixels[i] += color / static_cast<float>(rs.spp);
+                });
             };
             if (rs.method == Method::ris)
-                im.for_each_pixel_by_tile(index, shade_pixel);
+                im.for_each_block_by_tile(index, shade_block);
             else
-                im.for_each_pixel(shade_pixel);
+                im.for_each_block(shade_block);
             t.shading += milliseconds_since(start);
         }
     }

@@ -105,6 +105,12 @@ RESTIR_HOST_DEVICE inline glm::vec3 unshadowed_irradiance(const LightPointSample
                                                   max_of(-s.falloff, 0.0f));
 }
 
+/// A shadow ray as the open segment between two points, ends already offset off their surfaces.
+struct ShadowSegment {
+    glm::vec3 from{0.0f};
+    glm::vec3 to{0.0f};
+};
+
 /// `VisibilityFunction` for `LightPointSample`s, without a light lookup: the segment that
 /// `LightVisibility` tests, from the surface to the sample's point, the surface end pushed
 /// `ray_offset` off the surface towards the light, an area light's end off the light (a delta
@@ -114,18 +120,24 @@ struct LightPointVisibility {
     const Query* query = nullptr;
     float ray_offset = 1e-4f; ///< World-space offset; scale it with the scene.
 
+    /// The segment that `operator()` tests, for renderers that trace many at once (packets).
     template <Surface S>
-    RESTIR_HOST_DEVICE bool operator()(const LightPointSample& sample, const S& surface) const {
+    RESTIR_HOST_DEVICE ShadowSegment segment(const LightPointSample& sample,
+                                             const S& surface) const {
         const glm::vec3 position = surface_position(surface);
         const glm::vec3 towards_light = sample.position - position;
         const glm::vec3 normal = surface_normal(surface);
         const float side = glm::dot(normal, towards_light) < 0.0f ? -1.0f : 1.0f;
         const float light_side = glm::dot(sample.normal, towards_light) > 0.0f ? -1.0f : 1.0f;
-        const glm::vec3 from = position + normal * (side * ray_offset);
-        const glm::vec3 to = sample.is_delta
-                                 ? sample.position
-                                 : sample.position + sample.normal * (light_side * ray_offset);
-        return !query->occluded(from, to);
+        return {position + normal * (side * ray_offset),
+                sample.is_delta ? sample.position
+                                : sample.position + sample.normal * (light_side * ray_offset)};
+    }
+
+    template <Surface S>
+    RESTIR_HOST_DEVICE bool operator()(const LightPointSample& sample, const S& surface) const {
+        const ShadowSegment s = segment(sample, surface);
+        return !query->occluded(s.from, s.to);
     }
 };
 

@@ -55,6 +55,20 @@ struct LightVisibility {
     }
 };
 
+/// `apply_visibility` below with the ray already traced (for renderers that trace shadow rays
+/// in batches): `visible` says whether the reservoir's sample is visible from its surface.
+template <class Sample>
+RESTIR_HOST_DEVICE bool apply_visibility(Reservoir<Sample>& reservoir, bool visible) {
+    if (!reservoir.has_sample())
+        return false;
+    if (visible)
+        return true;
+    reservoir.weight_sum = 0.0f;
+    reservoir.contribution_weight = 0.0f;
+    return false;
+}
+
+
 /// Final visibility with visibility reuse: when the reservoir's sample is occluded from
 /// `surface`, its contribution weight and weight sum become 0 (it shades nothing and lends
 /// nothing to later reuse) while M and the sample stay. Returns whether the sample is visible.
@@ -65,11 +79,7 @@ RESTIR_HOST_DEVICE bool apply_visibility(Reservoir<Sample>& reservoir, const S& 
                                          const Visibility& visible) {
     if (!reservoir.has_sample())
         return false;
-    if (visible(reservoir.sample, surface))
-        return true;
-    reservoir.weight_sum = 0.0f;
-    reservoir.contribution_weight = 0.0f;
-    return false;
+    return apply_visibility(reservoir, visible(reservoir.sample, surface));
 }
 
 } // namespace restir
