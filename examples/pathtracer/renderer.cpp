@@ -225,6 +225,82 @@ struct Renderer::Impl {
         test_visibility(block, reservoir, [](std::uint32_t, bool) {});
     }
 
+    // The MIS shadow rays of a reuse pass, traced ahead as packets: pairwise MIS asks whether
+    // each pixel's own (canonical) sample is visible from each neighbour's surface. A block
+    // first lists those rays (`mis_rays_of`), traces them together, and the pass then reads the
+    // answers (`cached_visibility`); any other visibility question is traced on the spot.
+    static constexpr std::uint32_t max_cached_rays = restir::max_reuse_inputs;
+    struct MisRayCache {
+        restir::LightPointSample sample{};
+        std::array<const GSurface*, max_cached_rays> surfaces{};
+        std::array<std::uint8_t, max_cached_rays> visible{};
+        std::uint32_t count = 0;
+    };
+    static bool same_sample(const restir::LightPointSample& a, const restir::LightPointSample& b) {
+        return a.reference.light_id == b.reference.light_id && a.position == b.position &&
+               a.normal == b.normal;
+    }
+    // Fills `caches` (one per pixel of the block, in block order) for the canonical samples
+    // `canonical(i)` and the neighbour surfaces `neighbours(i, out) -> count`, and traces them.
+    template <class CanonicalAt, class NeighboursOf>
+    void trace_mis_rays(const PixelBlock& block, CanonicalAt&& canonical, NeighboursOf&& neighbours,
+                        std::span<MisRayCache> caches) {
+        constexpr std::size_t capacity = pixel_block * pixel_block * max_cached_rays;
+        std::vector<glm::vec3>& from = ray_from_scratch();
+        std::vector<glm::vec3>& to = ray_to_scratch();
+        std::vector<std::uint8_t>& blocked = ray_blocked_scratch();
+        from.resize(capacity);
+        to.resize(capacity);
+        blocked.resize(capacity);
+        const restir::LightPointVisibility<EmbreeScene> visibility = point_visibility();
+        std::size_t n = 0, k = 0;
+        for_each_pixel_of(block, [&](std::uint32_t, std::uint32_t, std::uint32_t i) {
+            MisRayCache& cache = caches[k++];
+            cache.count = 0;
+            const Reservoir& own = canonical(i);
+            if (!surfaces[i].valid || !own.has_sample())
+                return;
+            cache.sample = own.sample;
+            std::array<const GSurface*, max_cached_rays> there{};
+            const std::uint32_t count = neighbours(i, there);
+            for (std::uint32_t j = 0; j < count; ++j) {
+                if (!(point_target(own.sample, *there[j]) > 0.0f))
+                    continue; // the MIS weight will not ask
+                const restir::ShadowSegment segment = visibility.segment(own.sample, *there[j]);
+                cache.surfaces[cache.count++] = there[j];
+                from[n] = segment.from;
+                to[n++] = segment.to;
+            }
+        });
+        r.rays_.occluded_segments(std::span(from.data(), n), std::span(to.data(), n),
+                                  std::span(blocked.data(), n));
+        n = 0;
+        for (std::size_t c = 0; c < k; ++c)
+            for (std::uint32_t j = 0; j < caches[c].count; ++j)
+                caches[c].visible[j] = blocked[n++] == 0u ? 1u : 0u;
+    }
+    bool cached_visibility(const MisRayCache& cache, const restir::LightPointSample& sample,
+                           const GSurface& surface) const {
+        if (same_sample(sample, cache.sample))
+            for (std::uint32_t j = 0; j < cache.count; ++j)
+                if (cache.surfaces[j] == &surface)
+                    return cache.visible[j] != 0u;
+        return point_visibility()(sample, surface);
+    }
+    // Per-thread ray buffers for trace_mis_rays.
+    static std::vector<glm::vec3>& ray_from_scratch() {
+        thread_local std::vector<glm::vec3> buffer;
+        return buffer;
+    }
+    static std::vector<glm::vec3>& ray_to_scratch() {
+        thread_local std::vector<glm::vec3> buffer;
+        return buffer;
+    }
+    static std::vector<std::uint8_t>& ray_blocked_scratch() {
+        thread_local std::vector<std::uint8_t> buffer;
+        return buffer;
+    }
+
     // Presampled light tiles, refilled for every frame (and sample), in the structure-of-arrays
     // layout of batch RIS: candidates come from one tile per 8 x 8 pixel block, which stays in
     // cache. (Tiles of 256 lights for 16 x 16 blocks were 15 % faster but left visible block
@@ -541,6 +617,7 @@ FrameTimings Renderer::render_frame() {
         reuse.inputs_visibility_tested = true;
         const bool retest = rs.visibility_reuse && rs.mis_rays &&
                             rs.bias_correction != restir::BiasCorrection::none;
+        const bool mis_rays = retest; // MIS weights that trace visibility
 
         // Temporal reuse through reprojection of this frame's surfaces into the last camera.
         start = Clock::now();
@@ -563,12 +640,36 @@ FrameTimings Renderer::render_frame() {
                                           static_cast<std::int32_t>(std::floor(q.y))};
             };
             im.for_each_block([&](const Impl::PixelBlock& block) {
+                // The MIS ray towards the history's surface, traced ahead as packets.
+                std::array<Impl::MisRayCache, Impl::pixel_block * Impl::pixel_block> caches;
+                if (mis_rays)
+                    im.trace_mis_rays(
+                        block, reservoir_at,
+                        [&](std::uint32_t i,
+                            std::array<const GSurface*, Impl::max_cached_rays>& out) {
+                            const restir::PixelCoord p{static_cast<std::int32_t>(i % rs.width),
+                                                       static_cast<std::int32_t>(i / rs.width)};
+                            const auto history =
+                                restir::reusable_input(restir::history_pixel(reproject(p), params),
+                                                       im.surfaces[i], previous, previous_surfaces,
+                                                       params.similarity, bridge.material_test);
+                            out[0] = history.surface;
+                            return history.surface != nullptr ? 1u : 0u;
+                        },
+                        caches);
+                std::uint32_t k = 0;
                 im.for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
                     restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 2u, seed);
+                    const Impl::MisRayCache& cache = caches[k++];
+                    const restir::ReuseBridge cached{
+                        bridge.target,
+                        [&](const restir::LightPointSample& sample, const GSurface& there) {
+                            return im.cached_visibility(cache, sample, there);
+                        }};
                     im.scratch[i] = restir::temporal_resample(
                         {static_cast<std::int32_t>(x), static_cast<std::int32_t>(y)},
                         im.reservoirs[i], im.surfaces[i], previous, previous_surfaces, reproject,
-                        params, bridge, rng);
+                        params, cached, rng);
                 });
                 if (retest && rs.spatial_passes > 0)
                     im.test_visibility(block, scratch_at);
@@ -591,11 +692,40 @@ FrameTimings Renderer::render_frame() {
             const restir::ImageView<const Reservoir> input{im.reservoirs.data(), rs.width,
                                                            rs.height};
             im.for_each_block([&](const Impl::PixelBlock& block) {
+                // The neighbours spatial_resample will gather (same random number), so that
+                // the MIS rays towards them go out as packets first.
+                std::array<Impl::MisRayCache, Impl::pixel_block * Impl::pixel_block> caches;
+                if (mis_rays)
+                    im.trace_mis_rays(
+                        block, reservoir_at,
+                        [&](std::uint32_t i,
+                            std::array<const GSurface*, Impl::max_cached_rays>& out) {
+                            const restir::PixelCoord p{static_cast<std::int32_t>(i % rs.width),
+                                                       static_cast<std::int32_t>(i / rs.width)};
+                            restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 3u + pass, seed);
+                            std::array<restir::ReuseInput<restir::LightPointSample, GSurface>,
+                                       restir::max_reuse_inputs>
+                                found;
+                            const std::uint32_t count = restir::gather_spatial_neighbours(
+                                p, im.surfaces[i], input, surface_view, spatial, im.offsets,
+                                bridge.material_test, rng, found.data());
+                            for (std::uint32_t j = 0; j < count; ++j)
+                                out[j] = found[j].surface;
+                            return count;
+                        },
+                        caches);
+                std::uint32_t k = 0;
                 im.for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
                     restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 3u + pass, seed);
+                    const Impl::MisRayCache& cache = caches[k++];
+                    const restir::ReuseBridge cached{
+                        bridge.target,
+                        [&](const restir::LightPointSample& sample, const GSurface& there) {
+                            return im.cached_visibility(cache, sample, there);
+                        }};
                     im.scratch[i] = restir::spatial_resample(
                         {static_cast<std::int32_t>(x), static_cast<std::int32_t>(y)}, input,
-                        surface_view, spatial, im.offsets, bridge, rng);
+                        surface_view, spatial, im.offsets, cached, rng);
                 });
                 if (retest && pass + 1u < rs.spatial_passes)
                     im.test_visibility(block, scratch_at);
