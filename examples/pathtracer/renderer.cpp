@@ -140,8 +140,7 @@ struct Renderer::Impl {
                 tbb::blocked_range2d<std::uint32_t>(0u, rows, 8u, 0u, columns, 8u),
                 [&](const tbb::blocked_range2d<std::uint32_t>& range) {
                     for (std::uint32_t by = range.rows().begin(); by < range.rows().end(); ++by)
-                        for (std::uint32_t bx = range.cols().begin(); bx < range.cols().end();
-                             ++bx)
+                        for (std::uint32_t bx = range.cols().begin(); bx < range.cols().end(); ++bx)
                             body(block_at(bx + by * columns));
                 },
                 tbb::simple_partitioner{});
@@ -242,7 +241,8 @@ struct Renderer::Impl {
     struct MisRayCache {
         restir::LightPointSample sample{};
         std::array<const GSurface*, max_cached_rays> surfaces{};
-        std::array<std::uint8_t, max_cached_rays> visible{};
+        std::array<float, max_cached_rays> target{};         ///< p-hat of `sample` there
+        std::array<std::uint8_t, max_cached_rays> visible{}; ///< where target > 0
         std::uint32_t count = 0;
     };
     static bool same_sample(const restir::LightPointSample& a, const restir::LightPointSample& b) {
@@ -273,10 +273,12 @@ struct Renderer::Impl {
             std::array<const GSurface*, max_cached_rays> there{};
             const std::uint32_t count = neighbours(i, there);
             for (std::uint32_t j = 0; j < count; ++j) {
-                if (!(point_target(own.sample, *there[j]) > 0.0f))
-                    continue; // the MIS weight will not ask
+                const float target = point_target(own.sample, *there[j]);
+                cache.surfaces[cache.count] = there[j];
+                cache.target[cache.count++] = target;
+                if (!(target > 0.0f))
+                    continue; // the MIS weight will not ask for visibility
                 const restir::ShadowSegment segment = visibility.segment(own.sample, *there[j]);
-                cache.surfaces[cache.count++] = there[j];
                 from[n] = segment.from;
                 to[n++] = segment.to;
             }
@@ -286,7 +288,15 @@ struct Renderer::Impl {
         n = 0;
         for (std::size_t c = 0; c < k; ++c)
             for (std::uint32_t j = 0; j < caches[c].count; ++j)
-                caches[c].visible[j] = blocked[n++] == 0u ? 1u : 0u;
+                caches[c].visible[j] = caches[c].target[j] > 0.0f && blocked[n++] == 0u ? 1u : 0u;
+    }
+    float cached_target(const MisRayCache& cache, const restir::LightPointSample& sample,
+                        const GSurface& surface) const {
+        if (same_sample(sample, cache.sample))
+            for (std::uint32_t j = 0; j < cache.count; ++j)
+                if (cache.surfaces[j] == &surface)
+                    return cache.target[j];
+        return point_target(sample, surface);
     }
     bool cached_visibility(const MisRayCache& cache, const restir::LightPointSample& sample,
                            const GSurface& surface) const {
@@ -671,7 +681,10 @@ FrameTimings Renderer::render_frame() {
                     restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 2u, seed);
                     const Impl::MisRayCache& cache = caches[k++];
                     const restir::ReuseBridge cached{
-                        bridge.target,
+                        [&](const restir::LightPointSample& sample, const GSurface& there) {
+                            return mis_rays ? im.cached_target(cache, sample, there)
+                                            : im.point_target(sample, there);
+                        },
                         [&](const restir::LightPointSample& sample, const GSurface& there) {
                             return im.cached_visibility(cache, sample, there);
                         }};
@@ -701,40 +714,60 @@ FrameTimings Renderer::render_frame() {
             const restir::ImageView<const Reservoir> input{im.reservoirs.data(), rs.width,
                                                            rs.height};
             im.for_each_block([&](const Impl::PixelBlock& block) {
-                // The neighbours spatial_resample will gather (same random number), so that
-                // the MIS rays towards them go out as packets first.
-                std::array<Impl::MisRayCache, Impl::pixel_block * Impl::pixel_block> caches;
+                // spatial_resample in two steps, so that the MIS rays of the whole block go out
+                // as packets in between: gather each pixel's neighbours, trace the rays from
+                // its own sample towards them, then combine (restir::combine_reservoirs) with a
+                // bridge that answers those rays, and their targets, from the cache.
+                constexpr std::uint32_t pixels = Impl::pixel_block * Impl::pixel_block;
+                using Input = restir::ReuseInput<restir::LightPointSample, GSurface>;
+                std::array<std::array<Input, restir::max_reuse_inputs>, pixels> inputs;
+                std::array<std::uint32_t, pixels> counts{};
+                std::array<restir::Pcg32, pixels> rngs;
+                std::uint32_t k = 0;
+                im.for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
+                    rngs[k] = restir::make_pixel_rng(i, frame, 3u + pass, seed);
+                    counts[k] =
+                        im.surfaces[i].valid
+                            ? restir::gather_spatial_neighbours(
+                                  {static_cast<std::int32_t>(x), static_cast<std::int32_t>(y)},
+                                  im.surfaces[i], input, surface_view, spatial, im.offsets,
+                                  bridge.material_test, rngs[k], inputs[k].data())
+                            : 0u;
+                    ++k;
+                });
+                std::array<Impl::MisRayCache, pixels> caches;
                 if (mis_rays)
                     im.trace_mis_rays(
                         block, reservoir_at,
                         [&](std::uint32_t i,
                             std::array<const GSurface*, Impl::max_cached_rays>& out) {
-                            const restir::PixelCoord p{static_cast<std::int32_t>(i % rs.width),
-                                                       static_cast<std::int32_t>(i / rs.width)};
-                            restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 3u + pass, seed);
-                            std::array<restir::ReuseInput<restir::LightPointSample, GSurface>,
-                                       restir::max_reuse_inputs>
-                                found;
-                            const std::uint32_t count = restir::gather_spatial_neighbours(
-                                p, im.surfaces[i], input, surface_view, spatial, im.offsets,
-                                bridge.material_test, rng, found.data());
-                            for (std::uint32_t j = 0; j < count; ++j)
-                                out[j] = found[j].surface;
-                            return count;
+                            const std::uint32_t local =
+                                (i / rs.width - block.y0) * Impl::pixel_block + i % rs.width -
+                                block.x0;
+                            for (std::uint32_t j = 0; j < counts[local]; ++j)
+                                out[j] = inputs[local][j].surface;
+                            return counts[local];
                         },
                         caches);
-                std::uint32_t k = 0;
-                im.for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
-                    restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 3u + pass, seed);
-                    const Impl::MisRayCache& cache = caches[k++];
+                k = 0;
+                im.for_each_pixel_of(block, [&](std::uint32_t, std::uint32_t, std::uint32_t i) {
+                    const Impl::MisRayCache& cache = caches[k];
                     const restir::ReuseBridge cached{
-                        bridge.target,
+                        [&](const restir::LightPointSample& sample, const GSurface& there) {
+                            return mis_rays ? im.cached_target(cache, sample, there)
+                                            : im.point_target(sample, there);
+                        },
                         [&](const restir::LightPointSample& sample, const GSurface& there) {
                             return im.cached_visibility(cache, sample, there);
                         }};
-                    im.scratch[i] = restir::spatial_resample(
-                        {static_cast<std::int32_t>(x), static_cast<std::int32_t>(y)}, input,
-                        surface_view, spatial, im.offsets, cached, rng);
+                    im.scratch[i] = im.surfaces[i].valid
+                                        ? restir::combine_reservoirs(
+                                              input[{static_cast<std::int32_t>(i % rs.width),
+                                                     static_cast<std::int32_t>(i / rs.width)}],
+                                              im.surfaces[i], inputs[k].data(), counts[k],
+                                              spatial.reuse, cached, rngs[k])
+                                        : im.reservoirs[i];
+                    ++k;
                 });
                 if (retest && pass + 1u < rs.spatial_passes)
                     im.test_visibility(block, scratch_at);
