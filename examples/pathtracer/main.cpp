@@ -268,6 +268,8 @@ int main(int argc, char** argv) {
         if (black)
             std::cerr << "restir-render: warning: the image is black: does the camera see the "
                          "lit scene (--look-from, --look-at)?\n";
+        std::printf("pixels with a surface: %zu of %zu\n", renderer.surface_pixel_count(),
+                    image.pixels.size());
         for (const std::string& out : options.outs)
             std::printf("wrote %s (exposure %.2f)\n", out.c_str(), static_cast<double>(exposure));
     } catch (const pt::SceneError& e) {

@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <new>
 #include <span>
 
 namespace pt {
@@ -55,6 +56,23 @@ using Unified = restir::UnifiedLightSet<TriangleEmitters>;
 // Reservoirs keep their light point (restir::LightPointSample): reuse evaluates p-hat at other
 // surfaces without reading the light and VPL arrays again.
 using Reservoir = restir::Reservoir<restir::LightPointSample>;
+static_assert(sizeof(Reservoir) == 64u, "one reservoir per cache line");
+
+// Storage on 64-byte boundaries, so that each reservoir is one cache line: reuse reads its
+// neighbours' at random, and a record across two lines costs two misses.
+template <class T>
+struct CacheLineAllocator {
+    using value_type = T;
+    CacheLineAllocator() = default;
+    template <class U>
+    CacheLineAllocator(const CacheLineAllocator<U>&) noexcept {}
+    T* allocate(std::size_t n) {
+        return static_cast<T*>(::operator new (n * sizeof(T), std::align_val_t{64}));
+    }
+    void deallocate(T* p, std::size_t) noexcept { ::operator delete (p, std::align_val_t{64}); }
+    bool operator==(const CacheLineAllocator&) const noexcept { return true; }
+};
+using ReservoirBuffer = std::vector<Reservoir, CacheLineAllocator<Reservoir>>;
 
 struct Renderer::Impl {
     const Renderer& r;
@@ -71,7 +89,7 @@ struct Renderer::Impl {
     restir::NeighborOffsets offsets = restir::make_neighbor_offsets();
 
     std::vector<GSurface> surfaces, previous_surfaces;
-    std::vector<Reservoir> reservoirs, previous_reservoirs, scratch;
+    ReservoirBuffer reservoirs, previous_reservoirs, scratch;
 
     explicit Impl(const Renderer& renderer)
         : r(renderer),
@@ -246,8 +264,7 @@ struct Renderer::Impl {
         std::uint32_t count = 0;
     };
     static bool same_sample(const restir::LightPointSample& a, const restir::LightPointSample& b) {
-        return a.reference.light_id == b.reference.light_id && a.position == b.position &&
-               a.normal == b.normal;
+        return a.light_id == b.light_id && a.position == b.position && a.normal == b.normal;
     }
     // Fills `caches` (one per pixel of the block, in block order) for the canonical samples
     // `canonical(i)` and the neighbour surfaces `neighbours(i, out) -> count`, and traces them.
@@ -406,7 +423,7 @@ struct Renderer::Impl {
             return reservoir;
         const restir::LightSampleRef ref{c.index, {u, v}};
         const restir::LightPointSample sample = restir::make_light_point_sample(
-            ref, lights.sample_point(ref.light_id, ref.uv), falloff);
+            ref.light_id, lights.sample_point(ref.light_id, ref.uv), falloff);
         const float target = point_target(sample, s);
         reservoir.stream(sample, target / c.pmf, target, 0.0f);
         reservoir.finalize();
@@ -568,6 +585,11 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
 }
 
 Renderer::~Renderer() = default;
+
+std::size_t Renderer::surface_pixel_count() const {
+    return static_cast<std::size_t>(std::count_if(impl_->surfaces.begin(), impl_->surfaces.end(),
+                                                  [](const GSurface& s) { return s.valid; }));
+}
 
 FrameTimings Renderer::render_frame() {
     Impl& im = *impl_;

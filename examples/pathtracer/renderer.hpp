@@ -85,6 +85,9 @@ public:
     const Image& last_frame() const { return frame_image_; }
     std::uint32_t frames_rendered() const { return frame_; }
     std::size_t vpl_count() const { return vpls_.size(); }
+    /// Pixels whose primary ray found a surface in the last frame (the pixels that sample
+    /// lights; per-pixel costs in docs/performance.md are per such pixel).
+    std::size_t surface_pixel_count() const;
     std::uint32_t emitter_count() const { return emitters_.light_count(); }
 
 private:

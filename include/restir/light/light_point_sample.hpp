@@ -16,6 +16,7 @@
 #include <glm/vec3.hpp>
 
 #include <cmath>
+#include <cstdint>
 #include <type_traits>
 
 namespace restir {
@@ -45,11 +46,13 @@ RESTIR_HOST_DEVICE inline float folded_irradiance_factor(float x, float y, float
     return is_valid_weight(factor) ? factor : 0.0f;
 }
 
-/// A light sample with its point: the reference (which light, where) and what evaluating it
-/// gave, folded for `folded_irradiance_factor`. 56 bytes. The point stays valid while the
-/// light does not move (for reservoirs kept across frames, as a `LightSampleRef` does).
+/// A light sample with its point: which light, and the point that evaluating its sample gave,
+/// folded for `folded_irradiance_factor` (the point stands in for the light's uv, which is not
+/// kept). 48 bytes, so that a `Reservoir<LightPointSample>` fills one 64-byte cache line. The
+/// point stays valid while the light does not move (for reservoirs kept across frames, as a
+/// `LightSampleRef` does).
 struct LightPointSample {
-    LightSampleRef reference{};
+    std::uint32_t light_id = 0u;
     glm::vec3 position{0.0f};
     glm::vec3 normal{0.0f};    ///< Emitting side; zero for an isotropic light.
     glm::vec3 intensity{0.0f}; ///< Radiance / area_pdf (area lights), radiance (delta lights).
@@ -60,6 +63,7 @@ struct LightPointSample {
 };
 
 static_assert(std::is_trivially_copyable_v<LightPointSample>);
+static_assert(sizeof(LightPointSample) == 48u);
 
 /// The folded falloff parameter of a delta light under `falloff` (see LightPointSample).
 RESTIR_HOST_DEVICE inline float folded_falloff(const Falloff& falloff) noexcept {
@@ -75,14 +79,13 @@ RESTIR_HOST_DEVICE inline float folded_falloff(const Falloff& falloff) noexcept 
     return 0.0f;
 }
 
-/// `reference` with its evaluated `point`, folded; delta lights take `falloff`. A point that
-/// cannot emit (an area light with area_pdf 0) gets zero intensity.
+/// Light `light_id` with its evaluated `point`, folded; delta lights take `falloff`. A point
+/// that cannot emit (an area light with area_pdf 0) gets zero intensity.
 template <LightPoint P>
-RESTIR_HOST_DEVICE LightPointSample make_light_point_sample(const LightSampleRef& reference,
-                                                            const P& point,
+RESTIR_HOST_DEVICE LightPointSample make_light_point_sample(std::uint32_t light_id, const P& point,
                                                             const Falloff& falloff) {
     LightPointSample s;
-    s.reference = reference;
+    s.light_id = light_id;
     s.position = point.position;
     s.normal = point.normal;
     const float area_pdf = static_cast<float>(point.area_pdf);
