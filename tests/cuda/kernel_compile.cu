@@ -137,6 +137,39 @@ __global__ void tile_kernel(restir::PresampledLight* entries, const glm::vec3* e
     out[i] = r.with_sample(e.reference).contribution_weight;
 }
 
+// Batch RIS over structure-of-arrays tiles, with reservoirs that carry their light point:
+// the tile fill, the block evaluation, the selection, the point sample and its visibility.
+struct NeverOccluded {
+    RESTIR_HOST_DEVICE bool occluded(glm::vec3, glm::vec3) const { return false; }
+};
+
+__global__ void batch_ris_kernel(float* planes, restir::LightSampleRef* references,
+                                 const glm::vec3* emitters, std::uint32_t emitter_count,
+                                 const restir::AliasEntry* alias_entries, float* out) {
+    const auto i = static_cast<std::uint32_t>(blockIdx.x * blockDim.x + threadIdx.x);
+    const restir::LightTileArrays tiles{planes, references, 4u, 64u};
+    restir::Pcg32 rng = restir::make_pixel_rng(i, 0u, 50u);
+    const PointEmitters lights{emitters, emitter_count};
+    const restir::PowerLightSampler sampler{restir::AliasTableView{alias_entries, emitter_count}};
+    const restir::Falloff falloff{restir::Attenuation::yuksel, 0.05f};
+    tiles.store(i / 64u % 4u, i % 64u, restir::presample_light(sampler, lights, rng), falloff);
+    const glm::vec3 receiver(static_cast<float>(i), 0.0f, 0.0f);
+    const glm::vec3 normal(0.0f, 1.0f, 0.0f);
+    const restir::Reservoir<std::uint32_t> picked = restir::resample_ris_batch<8u>(
+        rng, 32u, [&](std::uint32_t b, restir::CandidateBlock<8u>& block) {
+            return restir::evaluate_tile_block(tiles, i % 4u, (b % 8u) * 8u, receiver, normal,
+                                               glm::vec3(1.0f), block);
+        });
+    restir::Reservoir<restir::LightPointSample> r =
+        picked.with_sample(tiles.point_sample(picked.sample));
+    const NeverOccluded query;
+    const restir::LightPointVisibility<NeverOccluded> visible{&query, 1e-3f};
+    const GBufferTexel texel{receiver, normal, 1.0f};
+    restir::apply_visibility(r, texel, visible);
+    out[i] = r.contribution_weight *
+             restir::unshadowed_irradiance(r.sample, receiver, normal).x;
+}
+
 __global__ void reuse_kernel(const glm::vec3* light_positions, const GBufferTexel* texels,
                              const restir::Reservoir<restir::LightSampleRef>* previous,
                              restir::Reservoir<restir::LightSampleRef>* temporal_out,
