@@ -114,13 +114,16 @@ struct ReuseSetup {
     BiasCorrection mode;
     Passes passes;
     bool visibility_reuse = true;
+    // Visibility tested again after every pass that feeds another, and the passes told that
+    // their inputs' own samples are tested (ReuseParams::inputs_visibility_tested).
+    bool retest = false;
 };
 
 std::string name_of(const ReuseSetup& s) {
     const char* modes[] = {"none", "one_over_z", "balance_heuristic", "pairwise"};
     const char* passes[] = {"spatial", "temporal", "both", "fused", "two_spatial"};
     return std::string(modes[static_cast<int>(s.mode)]) + "/" + passes[static_cast<int>(s.passes)] +
-           (s.visibility_reuse ? "" : "/no-visibility-reuse");
+           (s.visibility_reuse ? "" : "/no-visibility-reuse") + (s.retest ? "/retested" : "");
 }
 
 void PrintTo(const ReuseSetup& setup, std::ostream* os) { *os << name_of(setup); }
@@ -131,6 +134,7 @@ class Pipeline {
 public:
     explicit Pipeline(const ReuseSetup& setup) : setup_(setup) {
         temporal_.reuse = {setup.mode, setup.visibility_reuse};
+        temporal_.reuse.inputs_visibility_tested = setup.retest;
         spatial_.reuse = temporal_.reuse;
         spatial_.neighbour_count = 3u;
         spatial_.radius = 2.0f;
@@ -210,6 +214,8 @@ private:
                                                         bridge, rng);
             }
             current = temporal;
+            if (setup_.retest)
+                test_visibility(current, surfaces);
         }
         const std::uint32_t spatial_passes =
             setup_.passes == Passes::two_spatial                                ? 2u
@@ -225,6 +231,8 @@ private:
                                                       bridge, rng);
             }
             current = spatial;
+            if (setup_.retest)
+                test_visibility(current, surfaces);
         }
         // Final shading ray; with visibility reuse it also zeroes W for the next frame.
         if (setup_.visibility_reuse)
@@ -234,6 +242,13 @@ private:
         final_ = current;
         history_ = current;
         surfaces_ = surfaces;
+    }
+
+    static void test_visibility(std::vector<Reservoir<LightId>>& reservoirs,
+                                const std::vector<Patch>& surfaces) {
+        for (std::uint32_t i = 0; i < pixel_count; ++i)
+            if (surfaces[i].valid)
+                restir::apply_visibility(reservoirs[i], surfaces[i], Visibility{});
     }
 
     ReuseSetup setup_;
@@ -295,6 +310,10 @@ std::vector<ReuseSetup> unbiased_setups() {
     for (BiasCorrection mode :
          {BiasCorrection::one_over_z, BiasCorrection::balance_heuristic, BiasCorrection::pairwise})
         setups.push_back({mode, Passes::both, false});
+    for (BiasCorrection mode :
+         {BiasCorrection::one_over_z, BiasCorrection::balance_heuristic, BiasCorrection::pairwise})
+        for (Passes passes : {Passes::both, Passes::two_spatial})
+            setups.push_back({mode, passes, true, true});
     return setups;
 }
 
