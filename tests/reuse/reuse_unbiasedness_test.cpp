@@ -117,13 +117,15 @@ struct ReuseSetup {
     // Visibility tested again after every pass that feeds another, and the passes told that
     // their inputs' own samples are tested (ReuseParams::inputs_visibility_tested).
     bool retest = false;
+    bool mis_rays = true; // ReuseParams::trace_mis_visibility
 };
 
 std::string name_of(const ReuseSetup& s) {
     const char* modes[] = {"none", "one_over_z", "balance_heuristic", "pairwise"};
     const char* passes[] = {"spatial", "temporal", "both", "fused", "two_spatial"};
     return std::string(modes[static_cast<int>(s.mode)]) + "/" + passes[static_cast<int>(s.passes)] +
-           (s.visibility_reuse ? "" : "/no-visibility-reuse") + (s.retest ? "/retested" : "");
+           (s.visibility_reuse ? "" : "/no-visibility-reuse") + (s.retest ? "/retested" : "") +
+           (s.mis_rays ? "" : "/ray-free");
 }
 
 void PrintTo(const ReuseSetup& setup, std::ostream* os) { *os << name_of(setup); }
@@ -135,6 +137,7 @@ public:
     explicit Pipeline(const ReuseSetup& setup) : setup_(setup) {
         temporal_.reuse = {setup.mode, setup.visibility_reuse};
         temporal_.reuse.inputs_visibility_tested = setup.retest;
+        temporal_.reuse.trace_mis_visibility = setup.mis_rays;
         spatial_.reuse = temporal_.reuse;
         spatial_.neighbour_count = 3u;
         spatial_.radius = 2.0f;
@@ -388,6 +391,32 @@ TEST(BiasedReuse, OneOverMDarkensTheImageWithBothPasses) {
                 pixel_biases.add((stats[p].mean() - pipeline.truth(p, last)) /
                                  pipeline.truth(p, last));
         EXPECT_LT(pixel_biases.mean(), -0.05) << name_of(setup);
+    }
+}
+
+// Ray-free MIS weights (every sample taken as visible from every neighbour inside the weights)
+// under visibility reuse: a neighbour that sees the light occluded is given weight for samples
+// it could not have lent, so the image comes out darker where visibility differs between
+// neighbours. Reported, and the average relative bias over the pixels must be negative beyond
+// its measured spread.
+TEST(BiasedReuse, RayFreeMisWeightsDarkenWhereVisibilityDiffers) {
+    for (BiasCorrection mode : {BiasCorrection::balance_heuristic, BiasCorrection::pairwise}) {
+        ReuseSetup setup{mode, Passes::spatial, true};
+        setup.mis_rays = false;
+        Pipeline pipeline(setup);
+        const std::vector<RunningStats> stats = pipeline.run(1u, trials_for(Passes::spatial));
+        report(name_of(setup), pipeline, stats, 0u);
+        RunningStats pixel_biases;
+        std::uint32_t darker = 0;
+        for (std::uint32_t p = 0; p < pixel_count; ++p) {
+            const double truth = pipeline.truth(p, 0u);
+            if (!(truth > 0.0))
+                continue;
+            pixel_biases.add((stats[p].mean() - truth) / truth);
+            darker += restir::test::differs_from(stats[p], truth) && stats[p].mean() < truth;
+        }
+        EXPECT_LT(pixel_biases.mean() + 4.0 * pixel_biases.standard_error(), 0.0) << name_of(setup);
+        EXPECT_GT(darker, 0u) << name_of(setup);
     }
 }
 
