@@ -298,6 +298,45 @@ TEST(Visibility, LightVisibilityOffsetsBothEndsTowardsEachOther) {
     EXPECT_FALSE(visible(ref, Point{}));
 }
 
+// A VPL lies on a surface: its end moves off that surface as an area light's does, so that
+// the segment cannot hit the surface the VPL lies on (a hit decided by rounding, which single
+// rays and packets decide differently). An isotropic point light keeps its end.
+struct PointLights {
+    std::uint32_t light_count() const { return 2u; }
+    restir::LightSample sample_point(std::uint32_t id, glm::vec2) const {
+        restir::LightSample s;
+        s.position = {0.5f, 0.5f, 2.0f};
+        s.normal = id == 0u ? glm::vec3(0.0f, 0.0f, -1.0f) : glm::vec3(0.0f); // VPL, isotropic
+        s.radiance = glm::vec3(1.0f);
+        s.area_pdf = 1.0f;
+        s.is_delta = true;
+        return s;
+    }
+};
+
+TEST(Visibility, VplEndsLeaveTheirSurfaceAndIsotropicPointsStay) {
+    const PointLights lights;
+    RecordingQuery query;
+    const restir::LightVisibility<PointLights, RecordingQuery> visible{&lights, &query, 0.01f};
+    EXPECT_TRUE(visible(restir::LightSampleRef{0u, {}}, Point{}));
+    EXPECT_FLOAT_EQ(query.from.z, 0.01f);
+    EXPECT_FLOAT_EQ(query.to.z, 1.99f);
+    EXPECT_TRUE(visible(restir::LightSampleRef{1u, {}}, Point{}));
+    EXPECT_FLOAT_EQ(query.to.z, 2.0f);
+    // The same segments for samples that carry their point.
+    const restir::LightPointVisibility<RecordingQuery> point_visible{&query, 0.01f};
+    const restir::Falloff falloff{restir::Attenuation::yuksel, 0.1f};
+    for (std::uint32_t id : {0u, 1u}) {
+        const restir::LightPointSample sample =
+            restir::make_light_point_sample(id, lights.sample_point(id, {}), falloff);
+        const restir::ShadowSegment segment = point_visible.segment(sample, Point{});
+        EXPECT_TRUE(point_visible(sample, Point{}));
+        EXPECT_EQ(segment.from, query.from);
+        EXPECT_EQ(segment.to, query.to);
+        EXPECT_FLOAT_EQ(segment.to.z, id == 0u ? 1.99f : 2.0f);
+    }
+}
+
 TEST(BoilingFilter, EmptiesOnlyOutliersAboveTheLocalAverage) {
     std::vector<Reservoir<LightId>> reservoirs(25, finalised(0u, 4u, 1.0f)); // p-hat W = 1
     reservoirs[12] = finalised(0u, 4u, 100.0f);                              // p-hat W = 100

@@ -115,9 +115,9 @@ struct ShadowSegment {
 };
 
 /// `VisibilityFunction` for `LightPointSample`s, without a light lookup: the segment that
-/// `LightVisibility` tests, from the surface to the sample's point, the surface end pushed
-/// `ray_offset` off the surface towards the light, an area light's end off the light (a delta
-/// light's end stays). Holds a pointer: the query must outlive it.
+/// `LightVisibility` tests, from the surface to the sample's point, both ends pushed
+/// `ray_offset` off their surfaces towards each other (a VPL's end too; an isotropic point's
+/// end stays). Holds a pointer: the query must outlive it.
 template <RayQuery Query>
 struct LightPointVisibility {
     const Query* query = nullptr;
@@ -133,8 +133,7 @@ struct LightPointVisibility {
         const float side = glm::dot(normal, towards_light) < 0.0f ? -1.0f : 1.0f;
         const float light_side = glm::dot(sample.normal, towards_light) > 0.0f ? -1.0f : 1.0f;
         return {position + normal * (side * ray_offset),
-                sample.is_delta ? sample.position
-                                : sample.position + sample.normal * (light_side * ray_offset)};
+                sample.position + sample.normal * (light_side * ray_offset)};
     }
 
     template <Surface S>

@@ -48,9 +48,11 @@ struct LightVisibility {
         const float side = glm::dot(normal, towards_light) < 0.0f ? -1.0f : 1.0f;
         const float light_side = glm::dot(light_normal, towards_light) > 0.0f ? -1.0f : 1.0f;
         const glm::vec3 from = position + normal * (side * ray_offset);
-        const glm::vec3 to = point.is_delta
-                                 ? light_position
-                                 : light_position + light_normal * (light_side * ray_offset);
+        // The light end leaves the light's surface too, VPLs included: a segment that ends
+        // exactly on the surface a VPL lies on hits that surface at t = 1 or not as rounding
+        // decides (and decides differently for single rays and packets). An isotropic point
+        // (zero normal) keeps its end.
+        const glm::vec3 to = light_position + light_normal * (light_side * ray_offset);
         return !query->occluded(from, to);
     }
 };
@@ -67,7 +69,6 @@ RESTIR_HOST_DEVICE bool apply_visibility(Reservoir<Sample>& reservoir, bool visi
     reservoir.contribution_weight = 0.0f;
     return false;
 }
-
 
 /// Final visibility with visibility reuse: when the reservoir's sample is occluded from
 /// `surface`, its contribution weight and weight sum become 0 (it shades nothing and lends
