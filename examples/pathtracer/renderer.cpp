@@ -221,10 +221,10 @@ struct Renderer::Impl {
     }
 
     // Visibility reuse for a block: every pixel's reservoir (`reservoir(i)`) whose sample is
-    // occluded from its surface gets W = 0, the shadow rays traced as one packet query.
-    // Returns nothing; `visible_out(i, bool)` hears each tested pixel's answer.
-    template <class ReservoirAt, class Visible>
-    void test_visibility(const PixelBlock& block, ReservoirAt&& reservoir, Visible&& visible_out) {
+    // occluded from its surface gets W = 0, the shadow rays traced as one packet query; pixels
+    // for which `needs_test(i)` is false (their sample is known to be visible) are skipped.
+    template <class ReservoirAt, class NeedsTest>
+    void test_visibility(const PixelBlock& block, ReservoirAt&& reservoir, NeedsTest&& needs_test) {
         std::array<glm::vec3, pixel_block * pixel_block> from, to;
         std::array<std::uint32_t, pixel_block * pixel_block> pixel;
         std::array<std::uint8_t, pixel_block * pixel_block> blocked;
@@ -232,7 +232,7 @@ struct Renderer::Impl {
         const restir::LightPointVisibility<EmbreeScene> visibility = point_visibility();
         for_each_pixel_of(block, [&](std::uint32_t, std::uint32_t, std::uint32_t i) {
             const Reservoir& res = reservoir(i);
-            if (!surfaces[i].valid || !res.has_sample())
+            if (!surfaces[i].valid || !res.has_sample() || !needs_test(i))
                 return;
             const restir::ShadowSegment segment = visibility.segment(res.sample, surfaces[i]);
             from[n] = segment.from;
@@ -241,14 +241,12 @@ struct Renderer::Impl {
         });
         r.rays_.occluded_segments(std::span(from.data(), n), std::span(to.data(), n),
                                   std::span(blocked.data(), n));
-        for (std::size_t k = 0; k < n; ++k) {
+        for (std::size_t k = 0; k < n; ++k)
             restir::apply_visibility(reservoir(pixel[k]), blocked[k] == 0u);
-            visible_out(pixel[k], blocked[k] == 0u);
-        }
     }
     template <class ReservoirAt>
     void test_visibility(const PixelBlock& block, ReservoirAt&& reservoir) {
-        test_visibility(block, reservoir, [](std::uint32_t, bool) {});
+        test_visibility(block, reservoir, [](std::uint32_t) { return true; });
     }
 
     // The MIS shadow rays of a reuse pass, traced ahead as packets: pairwise MIS asks whether
@@ -715,8 +713,11 @@ FrameTimings Renderer::render_frame() {
                         im.reservoirs[i], im.surfaces[i], previous, previous_surfaces, reproject,
                         params, cached, rng);
                 });
+                // A pixel that kept its own sample needs no ray: that was tested above.
                 if (retest && rs.spatial_passes > 0)
-                    im.test_visibility(block, scratch_at);
+                    im.test_visibility(block, scratch_at, [&](std::uint32_t i) {
+                        return !Impl::same_sample(im.scratch[i].sample, im.reservoirs[i].sample);
+                    });
             });
             std::swap(im.reservoirs, im.scratch);
         }
