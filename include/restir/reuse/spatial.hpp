@@ -34,6 +34,19 @@ struct SpatialParams {
 /// The paper's unbiased settings: pairwise MIS, visibility reuse, k = 3 in 30 pixels.
 RESTIR_HOST_DEVICE constexpr SpatialParams default_spatial_params() noexcept { return {}; }
 
+/// Neighbour `i` (0 <= i < k) of `pixel` for a pass that drew `start` (its first uniform
+/// number, as `uniform_index(u, neighbor_offset_count)`): offset `start + i` of `offsets`
+/// scaled by the radius and rounded to the nearest pixel. For renderers that fetch the
+/// neighbours' data ahead of the pass (prefetching, packets of rays).
+RESTIR_HOST_DEVICE constexpr PixelCoord spatial_neighbour(PixelCoord pixel, std::uint32_t start,
+                                                          std::uint32_t i, float radius,
+                                                          const NeighborOffsets& offsets) {
+    const DiskOffset offset = offsets[start + i];
+    return {
+        pixel.x + static_cast<std::int32_t>(offset.x * radius + (offset.x < 0.0f ? -0.5f : 0.5f)),
+        pixel.y + static_cast<std::int32_t>(offset.y * radius + (offset.y < 0.0f ? -0.5f : 0.5f))};
+}
+
 /// The neighbours of `pixel` that may lend their reservoirs: k offsets taken consecutively
 /// from `offsets` from a random start, scaled by the radius and rounded; the pixel itself,
 /// pixels outside the image, dissimilar surfaces and non-finite reservoirs are skipped (not
@@ -47,12 +60,7 @@ RESTIR_HOST_DEVICE std::uint32_t gather_spatial_neighbours(
     const std::uint32_t start = uniform_index(next_float(rng), neighbor_offset_count);
     std::uint32_t found = 0u;
     for (std::uint32_t i = 0; i < wanted; ++i) {
-        const DiskOffset offset = offsets[start + i];
-        const PixelCoord neighbour{
-            pixel.x + static_cast<std::int32_t>(offset.x * params.radius +
-                                                (offset.x < 0.0f ? -0.5f : 0.5f)),
-            pixel.y + static_cast<std::int32_t>(offset.y * params.radius +
-                                                (offset.y < 0.0f ? -0.5f : 0.5f))};
+        const PixelCoord neighbour = spatial_neighbour(pixel, start, i, params.radius, offsets);
         if (neighbour.x == pixel.x && neighbour.y == pixel.y)
             continue;
         const ReuseInput<Sample, S> input = reusable_input(neighbour, surface, reservoirs, surfaces,
