@@ -16,6 +16,7 @@ frames=${1:-10}
 bash scripts/render.sh --width 8 --height 8 --frames 1 --out out/warm-up.png >/dev/null
 render=build/render/examples/pathtracer/restir-render
 dir=out/speed
+rm -rf "$dir"
 mkdir -p "$dir"
 cores=$(nproc)
 
