@@ -321,6 +321,17 @@ struct Renderer::Impl {
                     return cache.visible[j] != 0u;
         return point_visibility()(sample, surface);
     }
+    // A reuse bridge whose MIS targets and rays towards the cached surfaces come from `cache`
+    // (empty when the pass traces no MIS rays: then everything is evaluated on the spot).
+    auto cached_bridge(const MisRayCache& cache) const {
+        return restir::ReuseBridge{
+            [this, &cache](const restir::LightPointSample& sample, const GSurface& there) {
+                return cached_target(cache, sample, there);
+            },
+            [this, &cache](const restir::LightPointSample& sample, const GSurface& there) {
+                return cached_visibility(cache, sample, there);
+            }};
+    }
     // Per-thread ray buffers for trace_mis_rays.
     static std::vector<glm::vec3>& ray_from_scratch() {
         thread_local std::vector<glm::vec3> buffer;
@@ -703,14 +714,7 @@ FrameTimings Renderer::render_frame() {
                 im.for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
                     restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 2u, seed);
                     const Impl::MisRayCache& cache = caches[k++];
-                    const restir::ReuseBridge cached{
-                        [&](const restir::LightPointSample& sample, const GSurface& there) {
-                            return mis_rays ? im.cached_target(cache, sample, there)
-                                            : im.point_target(sample, there);
-                        },
-                        [&](const restir::LightPointSample& sample, const GSurface& there) {
-                            return im.cached_visibility(cache, sample, there);
-                        }};
+                    const auto cached = im.cached_bridge(cache);
                     im.scratch[i] = restir::temporal_resample(
                         {static_cast<std::int32_t>(x), static_cast<std::int32_t>(y)},
                         im.reservoirs[i], im.surfaces[i], previous, previous_surfaces, reproject,
@@ -778,14 +782,7 @@ FrameTimings Renderer::render_frame() {
                 k = 0;
                 im.for_each_pixel_of(block, [&](std::uint32_t, std::uint32_t, std::uint32_t i) {
                     const Impl::MisRayCache& cache = caches[k];
-                    const restir::ReuseBridge cached{
-                        [&](const restir::LightPointSample& sample, const GSurface& there) {
-                            return mis_rays ? im.cached_target(cache, sample, there)
-                                            : im.point_target(sample, there);
-                        },
-                        [&](const restir::LightPointSample& sample, const GSurface& there) {
-                            return im.cached_visibility(cache, sample, there);
-                        }};
+                    const auto cached = im.cached_bridge(cache);
                     im.scratch[i] = im.surfaces[i].valid
                                         ? restir::combine_reservoirs(
                                               input[{static_cast<std::int32_t>(i % rs.width),

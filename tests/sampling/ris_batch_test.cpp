@@ -11,6 +11,7 @@
 #include <restir/sampling/light_tile_arrays.hpp>
 
 #include "support/chi2.hpp"
+#include "support/discrete_lights.hpp"
 #include "support/statistics.hpp"
 
 #include <gtest/gtest.h>
@@ -274,20 +275,12 @@ TEST(RisBatch, UnbiasedFromAUniformSource) {
 TEST(RisBatch, UnbiasedOverDiscreteLights) {
     // Sum of 64 light contributions, candidates from a power sampler whose weights only
     // roughly follow the contributions, kept with a target that follows them less still.
-    std::vector<double> contribution(64);
-    std::vector<float> power(64);
-    Pcg32 setup = restir::make_pixel_rng(0u, 0u, 0u, 77u);
-    double truth = 0.0;
-    for (std::size_t i = 0; i < contribution.size(); ++i) {
-        contribution[i] = std::pow(10.0, 3.0 * static_cast<double>(next_float(setup)));
-        power[i] = static_cast<float>(contribution[i]) * (0.5f + next_float(setup));
-        truth += contribution[i];
-    }
-    const restir::AliasTable table(power);
+    const restir::test::DiscreteLights lights(77u);
+    const std::vector<double>& contribution = lights.contribution;
+    const double truth = lights.truth;
+    const restir::AliasTable table(lights.power);
     const restir::PowerLightSampler by_power{table.view()};
-    const auto target = [&](std::uint32_t light) {
-        return static_cast<float>(std::sqrt(contribution[light]));
-    };
+    const auto target = [&](std::uint32_t light) { return lights.target(light); };
     for (std::uint32_t m : {8u, 13u, 32u}) {
         RunningStats stats;
         for (std::uint32_t trial = 0; trial < trials; ++trial) {

@@ -5,6 +5,7 @@
 #include <restir/light/light_sampler.hpp>
 #include <restir/sampling/alias_table.hpp>
 
+#include "support/discrete_lights.hpp"
 #include "support/statistics.hpp"
 
 #include <gtest/gtest.h>
@@ -73,21 +74,13 @@ TEST(Ris, MoreCandidatesReduceVarianceWhenTheTargetMatches) {
 TEST(Ris, UnbiasedOverDiscreteLights) {
     // Sum of 64 light contributions, candidates from the uniform and from a power sampler
     // whose weights only roughly follow the contributions.
-    std::vector<double> contribution(64);
-    std::vector<float> power(64);
-    Pcg32 setup = restir::make_pixel_rng(0u, 0u, 0u, 77u);
-    double truth = 0.0;
-    for (std::size_t i = 0; i < contribution.size(); ++i) {
-        contribution[i] = std::pow(10.0, 3.0 * static_cast<double>(next_float(setup)));
-        power[i] = static_cast<float>(contribution[i]) * (0.5f + next_float(setup));
-        truth += contribution[i];
-    }
-    const restir::AliasTable table(power);
+    const restir::test::DiscreteLights lights(77u);
+    const std::vector<double>& contribution = lights.contribution;
+    const double truth = lights.truth;
+    const restir::AliasTable table(lights.power);
     const restir::PowerLightSampler by_power{table.view()};
     const restir::UniformLightSampler uniform{64u};
-    const auto target = [&](std::uint32_t light) {
-        return static_cast<float>(std::sqrt(contribution[light]));
-    };
+    const auto target = [&](std::uint32_t light) { return lights.target(light); };
     const auto f = [&](std::uint32_t light) { return contribution[light]; };
     const auto from = [](const auto& sampler) {
         return [sampler](Pcg32& rng) {
