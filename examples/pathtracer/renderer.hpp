@@ -52,7 +52,7 @@ struct RenderSettings {
     std::uint32_t history_cap = 20;
     restir::BiasCorrection bias_correction = restir::BiasCorrection::pairwise;
     bool visibility_reuse = true;
-    bool mis_rays = true; ///< restir::ReuseParams::trace_mis_visibility.
+    bool mis_rays = true;            ///< restir::ReuseParams::trace_mis_visibility.
     std::uint32_t vpls = 100'000;    ///< About this many VPLs (gi vpl).
     std::uint32_t vpl_bounces = 8;   ///< Photon bounce limit.
     float attenuation_radius = 0.0f; ///< Yuksel radius for VPLs; 0: 2 % of the scene's size.

@@ -166,8 +166,7 @@ __global__ void batch_ris_kernel(float* planes, restir::LightSampleRef* referenc
     const restir::LightPointVisibility<NeverOccluded> visible{&query, 1e-3f};
     const GBufferTexel texel{receiver, normal, 1.0f};
     restir::apply_visibility(r, texel, visible);
-    out[i] = r.contribution_weight *
-             restir::unshadowed_irradiance(r.sample, receiver, normal).x;
+    out[i] = r.contribution_weight * restir::unshadowed_irradiance(r.sample, receiver, normal).x;
 }
 
 __global__ void reuse_kernel(const glm::vec3* light_positions, const GBufferTexel* texels,

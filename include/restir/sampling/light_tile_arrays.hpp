@@ -107,7 +107,8 @@ struct LightTileArrays {
     /// its delta lights use.
     RESTIR_HOST_DEVICE void store(std::uint32_t tile, std::uint32_t index,
                                   const PresampledLight& entry, const Falloff& falloff) const {
-        const LightPointSample s = make_light_point_sample(entry.reference.light_id, entry.point, falloff);
+        const LightPointSample s =
+            make_light_point_sample(entry.reference.light_id, entry.point, falloff);
         const bool usable = entry.pdf > 0.0f;
         const bool isotropic = s.normal.x == 0.0f && s.normal.y == 0.0f && s.normal.z == 0.0f;
         const std::uint64_t global = std::uint64_t{tile} * tile_size + index;
