@@ -44,8 +44,7 @@ struct BlockSelection {
 template <std::uint32_t Size>
 RESTIR_HOST_DEVICE constexpr BlockSelection select_in_block(const CandidateBlock<Size>& block,
                                                             float u) noexcept {
-    // Branch-free throughout: which lane wins is random, so branches would mispredict. Each
-    // step is its own loop of like statements, which compilers turn into vector code.
+    // Branch-free throughout: which lane wins is random, so branches would mispredict.
     float weight[Size];
     for (std::uint32_t i = 0; i < Size; ++i) {
         const float w = block.target[i] * block.inverse_pdf[i];
@@ -90,9 +89,10 @@ RESTIR_HOST_DEVICE constexpr BlockSelection select_in_block(const CandidateBlock
 /// numbers per block (the block's lane, then the reservoir update) instead of one per
 /// candidate. f(y) W is unbiased under the conditions of `resample_ris`.
 template <std::uint32_t BlockSize, UniformRng Rng, class EvaluateBlock>
-requires std::invocable < EvaluateBlock&, std::uint32_t, CandidateBlock<BlockSize>
-& > RESTIR_HOST_DEVICE Reservoir<std::uint32_t>
-    resample_ris_batch(Rng& rng, std::uint32_t candidate_count, EvaluateBlock&& evaluate_block) {
+requires(std::invocable<EvaluateBlock&, std::uint32_t, CandidateBlock<BlockSize>&>)
+    RESTIR_HOST_DEVICE Reservoir<std::uint32_t> resample_ris_batch(Rng& rng,
+                                                                   std::uint32_t candidate_count,
+                                                                   EvaluateBlock&& evaluate_block) {
     const std::uint32_t block_count = (candidate_count + BlockSize - 1u) / BlockSize;
     // Alg. 2 applied to whole blocks (what Reservoir::stream_group does), kept in masks rather
     // than branches: whether a block wins is random, and a branch on it mispredicts often.
