@@ -14,6 +14,7 @@
 #include "restir/light/light_point_sample.hpp"
 #include "restir/light/light_sample.hpp"
 #include "restir/light/light_sampler.hpp"
+#include "restir/light/shadow_segment.hpp"
 #include "restir/light/unified_light_set.hpp"
 #include "restir/reuse/bias_correction.hpp"
 #include "restir/reuse/boiling_filter.hpp"

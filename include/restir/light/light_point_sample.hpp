@@ -11,6 +11,7 @@
 #include "restir/light/attenuation.hpp"
 #include "restir/light/irradiance.hpp"
 #include "restir/light/light_sample.hpp"
+#include "restir/light/shadow_segment.hpp"
 
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
@@ -108,12 +109,6 @@ RESTIR_HOST_DEVICE inline glm::vec3 unshadowed_irradiance(const LightPointSample
                                                   max_of(-s.falloff, 0.0f));
 }
 
-/// A shadow ray as the open segment between two points, ends already offset off their surfaces.
-struct ShadowSegment {
-    glm::vec3 from{0.0f};
-    glm::vec3 to{0.0f};
-};
-
 /// `VisibilityFunction` for `LightPointSample`s, without a light lookup: the segment that
 /// `LightVisibility` tests, from the surface to the sample's point, both ends pushed
 /// `ray_offset` off their surfaces towards each other (a VPL's end too; an isotropic point's
@@ -127,13 +122,8 @@ struct LightPointVisibility {
     template <Surface S>
     RESTIR_HOST_DEVICE ShadowSegment segment(const LightPointSample& sample,
                                              const S& surface) const {
-        const glm::vec3 position = surface_position(surface);
-        const glm::vec3 towards_light = sample.position - position;
-        const glm::vec3 normal = surface_normal(surface);
-        const float side = glm::dot(normal, towards_light) < 0.0f ? -1.0f : 1.0f;
-        const float light_side = glm::dot(sample.normal, towards_light) > 0.0f ? -1.0f : 1.0f;
-        return {position + normal * (side * ray_offset),
-                sample.position + sample.normal * (light_side * ray_offset)};
+        return shadow_segment(surface_position(surface), surface_normal(surface), sample.position,
+                              sample.normal, ray_offset);
     }
 
     template <Surface S>

@@ -9,6 +9,7 @@
 #include "restir/config.hpp"
 #include "restir/core/reservoir.hpp"
 #include "restir/light/light_sample.hpp"
+#include "restir/light/shadow_segment.hpp"
 
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
@@ -27,10 +28,8 @@ concept VisibilityFunction = requires(const F& visible, const Sample& sample,
 };
 
 /// `VisibilityFunction` for `LightSampleRef` samples: evaluates the reference with the light
-/// set and asks the ray query whether the segment between the two points is blocked. Both end
-/// points are pushed `ray_offset` along their normals (towards the other point) so that the
-/// segment does not hit the surfaces it starts and ends on. Holds pointers: the light set and
-/// the query must outlive it.
+/// set and asks the ray query whether `shadow_segment` between the two points is blocked.
+/// Holds pointers: the light set and the query must outlive it.
 template <LightSet Lights, RayQuery Query>
 struct LightVisibility {
     const Lights* lights = nullptr;
@@ -40,20 +39,10 @@ struct LightVisibility {
     template <Surface S>
     RESTIR_HOST_DEVICE bool operator()(const LightSampleRef& sample, const S& surface) const {
         const auto point = lights->sample_point(sample.light_id, sample.uv);
-        const glm::vec3 position = surface_position(surface);
-        const glm::vec3 light_position = point.position;
-        const glm::vec3 towards_light = light_position - position;
-        const glm::vec3 normal = surface_normal(surface);
-        const glm::vec3 light_normal = point.normal;
-        const float side = glm::dot(normal, towards_light) < 0.0f ? -1.0f : 1.0f;
-        const float light_side = glm::dot(light_normal, towards_light) > 0.0f ? -1.0f : 1.0f;
-        const glm::vec3 from = position + normal * (side * ray_offset);
-        // The light end leaves the light's surface too, VPLs included: a segment that ends
-        // exactly on the surface a VPL lies on hits that surface at t = 1 or not as rounding
-        // decides (and decides differently for single rays and packets). An isotropic point
-        // (zero normal) keeps its end.
-        const glm::vec3 to = light_position + light_normal * (light_side * ray_offset);
-        return !query->occluded(from, to);
+        const ShadowSegment segment =
+            shadow_segment(surface_position(surface), surface_normal(surface),
+                           glm::vec3(point.position), glm::vec3(point.normal), ray_offset);
+        return !query->occluded(segment.from, segment.to);
     }
 };
 
