@@ -49,10 +49,10 @@ RESTIR_HOST_DEVICE inline float folded_irradiance_factor(float x, float y, float
 
 /// A light sample with its point: which light, and the point that evaluating its sample gave,
 /// folded for `folded_irradiance_factor` (the point stands in for the light's uv, which is not
-/// kept). 48 bytes, so that a `Reservoir<LightPointSample>` fills one 64-byte cache line. The
-/// point stays valid while the light does not move (for reservoirs kept across frames, as a
-/// `LightSampleRef` does).
-struct LightPointSample {
+/// kept). 48 bytes with its alignment, so that a `Reservoir<LightPointSample>` fills one
+/// 64-byte cache line. The point stays valid while the light does not move (for reservoirs kept
+/// across frames, as a `LightSampleRef` does).
+struct alignas(16) LightPointSample {
     std::uint32_t light_id = 0u;
     glm::vec3 position{0.0f};
     glm::vec3 normal{0.0f};    ///< Emitting side; zero for an isotropic light.
@@ -60,7 +60,6 @@ struct LightPointSample {
     /// The falloff of a delta light: r^2 of Yuksel's (> 0), -d_min^2 of the clamped inverse
     /// square (< 0), or 0 for the exact inverse square and for area lights.
     float falloff = 0.0f;
-    bool is_delta = false; ///< A point light or VPL (no area).
 };
 
 static_assert(std::is_trivially_copyable_v<LightPointSample>);
@@ -93,7 +92,6 @@ RESTIR_HOST_DEVICE LightPointSample make_light_point_sample(std::uint32_t light_
     const float scale = point.is_delta ? 1.0f : area_pdf > 0.0f ? 1.0f / area_pdf : 0.0f;
     s.intensity = glm::vec3(point.radiance) * scale;
     s.falloff = point.is_delta ? folded_falloff(falloff) : 0.0f;
-    s.is_delta = point.is_delta;
     return s;
 }
 

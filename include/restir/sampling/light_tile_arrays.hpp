@@ -36,7 +36,6 @@ enum class TilePlane : std::uint32_t {
     yuksel_radius_squared, ///< r^2 of Yuksel's falloff for delta lights, else 0.
     min_distance_squared,  ///< d_min^2 of the clamped falloff for delta lights, else 0.
     inverse_pdf,           ///< 1 / p of the entry's source density (0 if p = 0).
-    delta,                 ///< 1 for a delta light (only `point_sample` reads it).
     count
 };
 
@@ -50,8 +49,8 @@ inline constexpr std::uint32_t tile_group_size = 8u;
 /// planes of floats in groups ("array of structures of arrays"): the entries are cut into
 /// groups of `tile_group_size` consecutive ones, and group g keeps its planes one after the
 /// other, plane k of it at floats [(g * tile_plane_count + k) * tile_group_size, ... +
-/// tile_group_size) of `planes`. A group is 448 contiguous bytes, so a block of candidates reads
-/// neighbouring cache lines rather than one line in each of 14 distant arrays. `references`
+/// tile_group_size) of `planes`. A group is 416 contiguous bytes, so a block of candidates reads
+/// neighbouring cache lines rather than one line in each of 13 distant arrays. `references`
 /// holds the entries' light references in entry order. A view over the caller's memory
 /// (device memory for a kernel); the caller refills it every frame.
 struct LightTileArrays {
@@ -99,7 +98,6 @@ struct LightTileArrays {
                        get(TilePlane::radiance_b)};
         const float radius2 = get(TilePlane::yuksel_radius_squared);
         s.falloff = radius2 > 0.0f ? radius2 : -get(TilePlane::min_distance_squared);
-        s.is_delta = get(TilePlane::delta) != 0.0f;
         return s;
     }
 
@@ -126,7 +124,6 @@ struct LightTileArrays {
         put(TilePlane::yuksel_radius_squared, max_of(s.falloff, 0.0f));
         put(TilePlane::min_distance_squared, max_of(-s.falloff, 0.0f));
         put(TilePlane::inverse_pdf, usable ? 1.0f / entry.pdf : 0.0f);
-        put(TilePlane::delta, s.is_delta ? 1.0f : 0.0f);
         references[global] = entry.reference;
     }
 };
