@@ -94,11 +94,7 @@ requires(std::invocable<EvaluateBlock&, std::uint32_t, CandidateBlock<BlockSize>
                                                                    std::uint32_t candidate_count,
                                                                    EvaluateBlock&& evaluate_block) {
     const std::uint32_t block_count = (candidate_count + BlockSize - 1u) / BlockSize;
-    // Alg. 2 applied to whole blocks (what Reservoir::stream_group does), kept in masks rather
-    // than branches: whether a block wins is random, and a branch on it mispredicts often.
-    float weight_sum = 0.0f;
-    std::uint32_t chosen = 0u;
-    std::uint32_t chosen_target_bits = 0u;
+    Reservoir<std::uint32_t> reservoir;
     for (std::uint32_t b = 0; b < block_count; ++b) {
         CandidateBlock<BlockSize> block;
         const auto first = static_cast<std::uint32_t>(evaluate_block(b, block));
@@ -107,24 +103,9 @@ requires(std::invocable<EvaluateBlock&, std::uint32_t, CandidateBlock<BlockSize>
             for (std::uint32_t i = 0; i < BlockSize; ++i)
                 block.inverse_pdf[i] = i < lanes ? block.inverse_pdf[i] : 0.0f;
         const BlockSelection selection = select_in_block(block, next_float(rng));
-        const float u = next_float(rng);
-        RESTIR_ASSERT(u >= 0.0f && u < 1.0f);
-        const float new_sum = weight_sum + selection.weight_sum;
-        // A sum that overflows drops the block, as Reservoir::stream does.
-        const std::uint32_t usable = is_finite(new_sum) ? ~0u : 0u;
-        const std::uint32_t take = usable & (u * new_sum < selection.weight_sum ? ~0u : 0u);
-        weight_sum = __builtin_bit_cast(
-            float, (__builtin_bit_cast(std::uint32_t, new_sum) & usable) |
-                       (__builtin_bit_cast(std::uint32_t, weight_sum) & ~usable));
-        chosen = ((first + selection.lane) & take) | (chosen & ~take);
-        chosen_target_bits = (__builtin_bit_cast(std::uint32_t, selection.target) & take) |
-                             (chosen_target_bits & ~take);
+        reservoir.stream_group(first + selection.lane, selection.weight_sum, selection.target,
+                               lanes, next_float(rng));
     }
-    Reservoir<std::uint32_t> reservoir;
-    reservoir.sample = chosen;
-    reservoir.weight_sum = weight_sum;
-    reservoir.target_value = __builtin_bit_cast(float, chosen_target_bits);
-    reservoir.candidate_count = candidate_count;
     reservoir.finalize();
     return reservoir;
 }
