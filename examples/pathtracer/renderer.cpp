@@ -164,10 +164,6 @@ struct Renderer::Impl {
                 tbb::simple_partitioner{});
         });
     }
-    template <class Body>
-    void for_each_pixel(Body&& body) {
-        for_each_block([&](const PixelBlock& block) { for_each_pixel_of(block, body); });
-    }
 
     // The blocks grouped by the light tile each draws its candidates from in `frame_index`,
     // the tiles spread over the threads: each tile is read from memory once and then serves
