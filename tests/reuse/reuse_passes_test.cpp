@@ -193,6 +193,77 @@ TEST(TemporalReuse, PermutationSamplingPermutesTwoByTwoBlocks) {
     EXPECT_TRUE(moved);
 }
 
+TEST(TemporalReuse, PermutationBitsSetTheBlockSize) {
+    restir::TemporalParams params = restir::default_temporal_params();
+    params.permutation_sampling = true;
+    params.permutation_bits = 2u; // 4 x 4 blocks
+    std::set<std::pair<int, int>> offsets_seen;
+    for (std::uint32_t frame = 0; frame < 64u; ++frame) {
+        params.frame_index = frame;
+        std::set<std::pair<int, int>> images;
+        for (int y = 0; y < 8; ++y)
+            for (int x = 0; x < 8; ++x) {
+                const PixelCoord p = restir::history_pixel({x, y}, params);
+                EXPECT_EQ(p.x / 4, x / 4);
+                EXPECT_EQ(p.y / 4, y / 4);
+                images.insert({p.x, p.y});
+                if (x == 0 && y == 0)
+                    offsets_seen.insert({p.x, p.y});
+            }
+        EXPECT_EQ(images.size(), 64u) << "frame " << frame << " is not a bijection";
+    }
+    // 64 frames draw most of the 16 patterns (each missed with probability (15/16)^64 < 2e-2).
+    EXPECT_GE(offsets_seen.size(), 12u);
+}
+
+// The offset table is rotated by a random angle per pixel: over many pixels the neighbours
+// spread alike along x and y, stay inside the radius (plus rounding), and their mean is 0.
+TEST(SpatialReuse, RotatedNeighboursAreIsotropic) {
+    const restir::NeighborOffsets offsets = restir::make_neighbor_offsets();
+    restir::Pcg32 rng = restir::make_pixel_rng(0u, 0u, 0u, 42u);
+    constexpr int trials = 20000;
+    constexpr float radius = 10.0f;
+    double sum_x = 0, sum_y = 0, sum_xx = 0, sum_yy = 0, sum_d = 0, sum_dd = 0;
+    for (int t = 0; t < trials; ++t) {
+        const std::uint32_t start =
+            restir::uniform_index(restir::next_float(rng), restir::neighbor_offset_count);
+        const restir::DiskOffset rotation = restir::neighbour_rotation(restir::next_float(rng));
+        EXPECT_NEAR(rotation.x * rotation.x + rotation.y * rotation.y, 1.0f, 1e-5f);
+        const PixelCoord n =
+            restir::spatial_neighbour({0, 0}, start, 0u, radius, offsets, rotation);
+        const double x = n.x, y = n.y;
+        EXPECT_LE(std::hypot(x, y), static_cast<double>(radius) + 1.0);
+        sum_x += x;
+        sum_y += y;
+        sum_xx += x * x;
+        sum_yy += y * y;
+        const double d = x * x - y * y; // mean 0 when x and y spread alike
+        sum_d += d;
+        sum_dd += d * d;
+    }
+    const double n = trials;
+    const double se_x = std::sqrt(sum_xx / n / n), se_y = std::sqrt(sum_yy / n / n);
+    EXPECT_LT(std::abs(sum_x / n), 4.0 * se_x);
+    EXPECT_LT(std::abs(sum_y / n), 4.0 * se_y);
+    const double mean_d = sum_d / n;
+    const double se_d = std::sqrt((sum_dd / n - mean_d * mean_d) / n);
+    EXPECT_LT(std::abs(mean_d), 4.0 * se_d) << "E[x^2] " << sum_xx / n << ", E[y^2] " << sum_yy / n;
+    // Without rotation a pixel sees only the table's 64 offsets.
+    std::set<std::pair<int, int>> fixed, rotated;
+    for (std::uint32_t start = 0; start < restir::neighbor_offset_count; ++start) {
+        const PixelCoord f = restir::spatial_neighbour({0, 0}, start, 0u, radius, offsets);
+        fixed.insert({f.x, f.y});
+    }
+    for (int t = 0; t < 2000; ++t) {
+        const PixelCoord r = restir::spatial_neighbour(
+            {0, 0}, static_cast<std::uint32_t>(t) % restir::neighbor_offset_count, 0u, radius,
+            offsets, restir::neighbour_rotation(restir::next_float(rng)));
+        rotated.insert({r.x, r.y});
+    }
+    EXPECT_LE(fixed.size(), restir::neighbor_offset_count);
+    EXPECT_GT(rotated.size(), 3u * fixed.size()); // a disk of radius 10 holds ~300 pixels
+}
+
 TEST(SpatialReuse, IgnoresNonFiniteNeighboursAndInvalidReceivers) {
     const restir::ReuseBridge bridge{Target{}, AlwaysVisible{}};
     const restir::NeighborOffsets offsets = restir::make_neighbor_offsets();

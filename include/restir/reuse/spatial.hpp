@@ -1,8 +1,8 @@
 /// @file reuse/spatial.hpp
 /// Spatial reuse (Bitterli et al. 2020, Sec. 4 and Alg. 5): the receiver's reservoir is
 /// combined with the reservoirs of k neighbours inside a radius, chosen from a fixed
-/// low-discrepancy offset set rotated by a random start per pixel. Run it any number of
-/// times, ping-ponging between two reservoir buffers.
+/// low-discrepancy offset set from a random start and randomly rotated per pixel. Run it any
+/// number of times, ping-ponging between two reservoir buffers.
 #pragma once
 
 #include "restir/concepts.hpp"
@@ -16,6 +16,7 @@
 #include "restir/reuse/reuse_input.hpp"
 #include "restir/reuse/similarity.hpp"
 
+#include <cmath>
 #include <cstdint>
 
 namespace restir {
@@ -35,22 +36,33 @@ struct SpatialParams {
 RESTIR_HOST_DEVICE constexpr SpatialParams default_spatial_params() noexcept { return {}; }
 
 /// Neighbour `i` (0 <= i < k) of `pixel` for a pass that drew `start` (its first uniform
-/// number, as `uniform_index(u, neighbor_offset_count)`): offset `start + i` of `offsets`
+/// number, as `uniform_index(u, neighbor_offset_count)`) and `rotation` (cos and sin of an
+/// angle from its second, `neighbour_rotation`): offset `start + i` of `offsets` rotated,
 /// scaled by the radius and rounded to the nearest pixel. For renderers that fetch the
 /// neighbours' data ahead of the pass (prefetching, packets of rays).
 RESTIR_HOST_DEVICE constexpr PixelCoord spatial_neighbour(PixelCoord pixel, std::uint32_t start,
                                                           std::uint32_t i, float radius,
-                                                          const NeighborOffsets& offsets) {
-    const DiskOffset offset = offsets[start + i];
-    return {
-        pixel.x + static_cast<std::int32_t>(offset.x * radius + (offset.x < 0.0f ? -0.5f : 0.5f)),
-        pixel.y + static_cast<std::int32_t>(offset.y * radius + (offset.y < 0.0f ? -0.5f : 0.5f))};
+                                                          const NeighborOffsets& offsets,
+                                                          DiskOffset rotation = {1.0f, 0.0f}) {
+    const DiskOffset table = offsets[start + i];
+    const float x = (rotation.x * table.x - rotation.y * table.y) * radius;
+    const float y = (rotation.y * table.x + rotation.x * table.y) * radius;
+    return {pixel.x + static_cast<std::int32_t>(x + (x < 0.0f ? -0.5f : 0.5f)),
+            pixel.y + static_cast<std::int32_t>(y + (y < 0.0f ? -0.5f : 0.5f))};
+}
+
+/// The rotation (cos, sin) of the offset table for uniform number `u`: a random rotation per
+/// pixel and pass, so that the fixed table leaves no directional pattern in the noise (without
+/// it, the error of neighbouring pixels correlated differently along x and y).
+RESTIR_HOST_DEVICE inline DiskOffset neighbour_rotation(float u) noexcept {
+    const float angle = 6.28318530717958648f * u;
+    return {std::cos(angle), std::sin(angle)};
 }
 
 /// The neighbours of `pixel` that may lend their reservoirs: k offsets taken consecutively
 /// from `offsets` from a random start, scaled by the radius and rounded; the pixel itself,
 /// pixels outside the image, dissimilar surfaces and non-finite reservoirs are skipped (not
-/// replaced). Writes them to `out` and returns how many there are. One uniform number.
+/// replaced). Writes them to `out` and returns how many there are. Two uniform numbers.
 template <class Sample, Surface S, class MaterialTest, UniformRng Rng>
 RESTIR_HOST_DEVICE std::uint32_t gather_spatial_neighbours(
     PixelCoord pixel, const S& surface, ImageView<const Reservoir<Sample>> reservoirs,
@@ -58,9 +70,11 @@ RESTIR_HOST_DEVICE std::uint32_t gather_spatial_neighbours(
     const MaterialTest& material_test, Rng& rng, ReuseInput<Sample, S>* out) {
     const std::uint32_t wanted = min_of(params.neighbour_count, max_reuse_inputs - 1u);
     const std::uint32_t start = uniform_index(next_float(rng), neighbor_offset_count);
+    const DiskOffset rotation = neighbour_rotation(next_float(rng));
     std::uint32_t found = 0u;
     for (std::uint32_t i = 0; i < wanted; ++i) {
-        const PixelCoord neighbour = spatial_neighbour(pixel, start, i, params.radius, offsets);
+        const PixelCoord neighbour =
+            spatial_neighbour(pixel, start, i, params.radius, offsets, rotation);
         if (neighbour.x == pixel.x && neighbour.y == pixel.y)
             continue;
         const ReuseInput<Sample, S> input = reusable_input(neighbour, surface, reservoirs, surfaces,

@@ -30,6 +30,9 @@ struct TemporalParams {
     /// coordinates differ in their lowest bits by a per-frame pattern, so that neighbouring
     /// pixels stop sharing correlated histories. Off by default.
     bool permutation_sampling = false;
+    /// The pattern XORs this many low bits of each coordinate: the history comes from within
+    /// blocks of 2^bits x 2^bits pixels (1: 2 x 2, as in the paper).
+    std::uint32_t permutation_bits = 1u;
     /// Frame number, which selects the permutation.
     std::uint32_t frame_index = 0u;
 };
@@ -51,9 +54,10 @@ RESTIR_HOST_DEVICE constexpr PixelCoord history_pixel(PixelCoord reprojected,
                                                       const TemporalParams& params) noexcept {
     if (!params.permutation_sampling)
         return reprojected;
-    const std::uint32_t pattern = static_cast<std::uint32_t>(mix64(params.frame_index)) & 3u;
-    return {reprojected.x ^ static_cast<std::int32_t>(pattern & 1u),
-            reprojected.y ^ static_cast<std::int32_t>(pattern >> 1u)};
+    const std::uint32_t mask = (1u << params.permutation_bits) - 1u;
+    const std::uint32_t pattern = static_cast<std::uint32_t>(mix64(params.frame_index));
+    return {reprojected.x ^ static_cast<std::int32_t>(pattern & mask),
+            reprojected.y ^ static_cast<std::int32_t>((pattern >> 16u) & mask)};
 }
 
 /// A previous-frame reservoir with its M capped at `params.history_cap_multiplier` times the
