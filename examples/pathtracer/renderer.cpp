@@ -552,35 +552,7 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
     im.camera = Camera(settings.camera, settings.width, settings.height);
     im.previous_camera = im.camera;
 
-    if (settings.gi == GlobalIllumination::vpl && settings.vpls > 0) {
-        const auto start = Clock::now();
-        restir::PhotonParams params = restir::default_photon_params();
-        params.max_bounces = settings.vpl_bounces;
-        params.ray_offset = im.ray_offset;
-        params.seed = settings.seed;
-        const LambertianScatter scatter{&scene};
-        const auto parallel_for = [&im](std::uint32_t count, auto&& body) {
-            im.arena.execute(
-                [&] { tbb::parallel_for(0u, count, [&](std::uint32_t i) { body(i); }); });
-        };
-        // A pilot pass measures VPLs per photon, so that the budget gives about `vpls` VPLs.
-        params.photon_count = std::min<std::uint32_t>(settings.vpls, 4096u);
-        const std::size_t pilot =
-            restir::shoot_photons(emitters_, rays_, scatter, params, parallel_for).size();
-        const double per_photon = std::max(1e-3, static_cast<double>(pilot) / params.photon_count);
-        params.photon_count = static_cast<std::uint32_t>(
-            std::clamp(std::ceil(settings.vpls / per_photon), 1.0, 4.0e9));
-        vpls_ = restir::shoot_photons(emitters_, rays_, scatter, params, parallel_for);
-        photon_ms_ = milliseconds_since(start);
-    }
-
-    im.lights = Unified{&emitters_, vpls_.data(), static_cast<std::uint32_t>(vpls_.size())};
-    const std::vector<float> powers = restir::unified_light_powers(im.lights);
-    im.light_table.build(powers);
-    im.emitter_table.build(std::span<const float>(powers.data(), emitters_.light_count()));
-    if (!vpls_.empty())
-        im.vpl_table.build(
-            std::span<const float>(powers.data() + emitters_.light_count(), vpls_.size()));
+    shoot_vpls(0u);
 
     const std::size_t pixels = std::size_t{settings.width} * settings.height;
     im.surfaces.resize(pixels);
@@ -594,6 +566,46 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
 
 Renderer::~Renderer() = default;
 
+void Renderer::shoot_vpls(std::uint32_t generation) {
+    Impl& im = *impl_;
+    if (settings_.gi == GlobalIllumination::vpl && settings_.vpls > 0) {
+        const auto start = Clock::now();
+        restir::PhotonParams params = restir::default_photon_params();
+        params.max_bounces = settings_.vpl_bounces;
+        params.ray_offset = im.ray_offset;
+        // Set 0 keeps the seed itself; later sets are independent of it and of each other.
+        params.seed = generation == 0u
+                          ? settings_.vpl_seed
+                          : restir::mix64(settings_.vpl_seed ^ restir::mix64(generation));
+        const LambertianScatter scatter{&scene_};
+        const auto parallel_for = [&im](std::uint32_t count, auto&& body) {
+            im.arena.execute(
+                [&] { tbb::parallel_for(0u, count, [&](std::uint32_t i) { body(i); }); });
+        };
+        if (photon_count_ == 0u) {
+            // A pilot pass measures VPLs per photon, so that the budget gives about `vpls` VPLs.
+            params.photon_count = std::min<std::uint32_t>(settings_.vpls, 4096u);
+            const std::size_t pilot =
+                restir::shoot_photons(emitters_, rays_, scatter, params, parallel_for).size();
+            const double per_photon =
+                std::max(1e-3, static_cast<double>(pilot) / params.photon_count);
+            photon_count_ = static_cast<std::uint32_t>(
+                std::clamp(std::ceil(settings_.vpls / per_photon), 1.0, 4.0e9));
+        }
+        params.photon_count = photon_count_;
+        vpls_ = restir::shoot_photons(emitters_, rays_, scatter, params, parallel_for);
+        photon_ms_ = milliseconds_since(start);
+    }
+
+    im.lights = Unified{&emitters_, vpls_.data(), static_cast<std::uint32_t>(vpls_.size())};
+    const std::vector<float> powers = restir::unified_light_powers(im.lights);
+    im.light_table.build(powers);
+    im.emitter_table.build(std::span<const float>(powers.data(), emitters_.light_count()));
+    if (!vpls_.empty())
+        im.vpl_table.build(
+            std::span<const float>(powers.data() + emitters_.light_count(), vpls_.size()));
+}
+
 std::size_t Renderer::surface_pixel_count() const {
     return static_cast<std::size_t>(std::count_if(impl_->surfaces.begin(), impl_->surfaces.end(),
                                                   [](const GSurface& s) { return s.valid; }));
@@ -603,9 +615,16 @@ FrameTimings Renderer::render_frame() {
     Impl& im = *impl_;
     FrameTimings t;
     const auto frame_start = Clock::now();
-    if (frame_ == 0)
-        t.photons = photon_ms_;
     const RenderSettings& rs = settings_;
+    // A new VPL set every `vpl_reshoot_interval` frames. Temporal reuse skips that frame (as
+    // after a camera cut): the history's samples belong to the old set, which is not this
+    // frame's integrand (docs/noise-and-bias.md).
+    const bool new_vpl_set =
+        frame_ > 0 && rs.vpl_reshoot_interval > 0 && frame_ % rs.vpl_reshoot_interval == 0;
+    if (new_vpl_set)
+        shoot_vpls(frame_ / rs.vpl_reshoot_interval);
+    if (frame_ == 0 || new_vpl_set)
+        t.photons = photon_ms_;
     const std::uint64_t seed = rs.seed;
     const std::uint32_t frame = frame_;
 
@@ -670,10 +689,11 @@ FrameTimings Renderer::render_frame() {
 
         // Temporal reuse through reprojection of this frame's surfaces into the last camera.
         start = Clock::now();
-        if (frame > 0) {
+        if (frame > 0 && !new_vpl_set) {
             restir::TemporalParams params = restir::default_temporal_params();
             params.reuse = reuse;
             params.history_cap_multiplier = rs.history_cap;
+            params.permutation_sampling = rs.permutation_sampling;
             params.frame_index = frame;
             const restir::ImageView<const Reservoir> previous{im.previous_reservoirs.data(),
                                                               rs.width, rs.height};

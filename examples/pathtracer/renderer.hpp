@@ -50,11 +50,16 @@ struct RenderSettings {
                          ///< at 1080p), at least 3.
     std::uint32_t spatial_passes = 1;
     std::uint32_t history_cap = 20;
+    bool permutation_sampling = false; ///< restir::TemporalParams::permutation_sampling.
     restir::BiasCorrection bias_correction = restir::BiasCorrection::pairwise;
     bool visibility_reuse = true;
-    bool mis_rays = true;            ///< restir::ReuseParams::trace_mis_visibility.
-    std::uint32_t vpls = 100'000;    ///< About this many VPLs (gi vpl).
-    std::uint32_t vpl_bounces = 8;   ///< Photon bounce limit.
+    bool mis_rays = true;          ///< restir::ReuseParams::trace_mis_visibility.
+    std::uint32_t vpls = 100'000;  ///< About this many VPLs (gi vpl).
+    std::uint32_t vpl_bounces = 8; ///< Photon bounce limit.
+    /// A new, independent VPL set every this many frames (0: one set for the whole render), so
+    /// that the accumulated image converges to the path-traced answer, not to one set's.
+    std::uint32_t vpl_reshoot_interval = 0;
+    std::uint64_t vpl_seed = 0;      ///< Seed of the photons (the first set; later sets follow it).
     float attenuation_radius = 0.0f; ///< Yuksel radius for VPLs; 0: 2 % of the scene's size.
     std::uint32_t max_depth = 8;     ///< Path length limit (reference, gi path).
 };
@@ -85,6 +90,8 @@ public:
     const Image& last_frame() const { return frame_image_; }
     std::uint32_t frames_rendered() const { return frame_; }
     std::size_t vpl_count() const { return vpls_.size(); }
+    /// The VPL set of the last frame (a new one every `vpl_reshoot_interval` frames).
+    const std::vector<restir::Vpl>& vpls() const { return vpls_; }
     /// Pixels whose primary ray found a surface in the last frame (the pixels that sample
     /// lights; per-pixel costs in docs/performance.md are per such pixel).
     std::size_t surface_pixel_count() const;
@@ -94,12 +101,17 @@ private:
     struct Impl;
     friend struct Impl;
 
+    /// Shoots VPL set `generation` (0: the first, from the VPL seed) and rebuilds the light
+    /// set and its sampling tables.
+    void shoot_vpls(std::uint32_t generation);
+
     const Scene& scene_;
     RenderSettings settings_;
     EmbreeScene rays_;
     TriangleEmitters emitters_;
     std::vector<restir::Vpl> vpls_;
-    double photon_ms_ = 0.0;
+    double photon_ms_ = 0.0;          ///< Time of the last photon shooting.
+    std::uint32_t photon_count_ = 0u; ///< Photons per set, from the pilot pass of the first.
     std::unique_ptr<Impl> impl_;
     Image accumulated_;
     Image frame_image_;
