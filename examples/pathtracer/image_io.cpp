@@ -84,17 +84,16 @@ Format format_of(const std::filesystem::path& path, std::string_view supported) 
                      std::string(supported));
 }
 
-void check_consistent(const Image& image, const std::filesystem::path* path) {
+void check_consistent(const Image& image, const std::filesystem::path& path) {
     if (image.pixels.size() != std::size_t{image.width} * image.height) {
-        throw ImageError((path != nullptr ? "cannot write " + name(*path) + ": " : std::string()) +
-                         "image is " + std::to_string(image.width) + "x" +
-                         std::to_string(image.height) + " but holds " +
-                         std::to_string(image.pixels.size()) + " pixels");
+        throw ImageError("cannot write " + name(path) + ": image is " +
+                         std::to_string(image.width) + "x" + std::to_string(image.height) +
+                         " but holds " + std::to_string(image.pixels.size()) + " pixels");
     }
 }
 
 void check_writable(const std::filesystem::path& path, const Image& image) {
-    check_consistent(image, &path);
+    check_consistent(image, path);
     if (image.width == 0 || image.height == 0) {
         throw ImageError("cannot write " + name(path) + ": the image is empty (" +
                          std::to_string(image.width) + "x" + std::to_string(image.height) + ")");
@@ -472,50 +471,6 @@ Image read_image(const std::filesystem::path& path) {
         throw ImageError("cannot read " + name(path) + ": it is a directory");
     }
     return format == Format::exr ? read_exr(path) : read_pfm(path);
-}
-
-namespace {
-
-void check_same_size(const Image& image, const Image& reference) {
-    if (image.width != reference.width || image.height != reference.height) {
-        throw ImageError("image is " + std::to_string(image.width) + "x" +
-                         std::to_string(image.height) + " but the reference is " +
-                         std::to_string(reference.width) + "x" + std::to_string(reference.height));
-    }
-    check_consistent(image, nullptr);
-    check_consistent(reference, nullptr);
-}
-
-} // namespace
-
-double rmse(const Image& image, const Image& reference) {
-    check_same_size(image, reference);
-    if (image.pixels.empty()) {
-        return 0.0;
-    }
-    double sum = 0.0;
-    for (std::size_t i = 0; i < image.pixels.size(); ++i) {
-        for (int c = 0; c < 3; ++c) {
-            const double d = static_cast<double>(image.pixels[i][c]) -
-                             static_cast<double>(reference.pixels[i][c]);
-            sum += d * d;
-        }
-    }
-    return std::sqrt(sum / (3.0 * static_cast<double>(image.pixels.size())));
-}
-
-double relative_mean_difference(const Image& image, const Image& reference) {
-    check_same_size(image, reference);
-    double difference = 0.0;
-    double total = 0.0;
-    for (std::size_t i = 0; i < image.pixels.size(); ++i) {
-        for (int c = 0; c < 3; ++c) {
-            difference += static_cast<double>(image.pixels[i][c]) -
-                          static_cast<double>(reference.pixels[i][c]);
-            total += static_cast<double>(reference.pixels[i][c]);
-        }
-    }
-    return total > 0.0 ? difference / total : 0.0;
 }
 
 float auto_exposure(const Image& image) {

@@ -39,15 +39,6 @@ void write_image(const std::filesystem::path& path, const Image& image, float ex
 /// of another format.
 Image read_image(const std::filesystem::path& path);
 
-/// Root-mean-square error over all pixels and channels; both images must be the same size
-/// (ImageError otherwise).
-double rmse(const Image& image, const Image& reference);
-
-/// (mean(image) - mean(reference)) / mean(reference) over all pixels and channels: an
-/// estimator's bias relative to the image mean, once the noise has averaged out over the
-/// pixels; 0 for a black reference. Same size required (ImageError otherwise).
-double relative_mean_difference(const Image& image, const Image& reference);
-
 /// The exposure (in stops) that maps the image's average luminance to 0.18, the usual
 /// middle grey; 0 for a black image.
 float auto_exposure(const Image& image);

@@ -2,6 +2,7 @@
 // RIS, ReSTIR or a reference path tracer, with optional VPL or path-traced global
 // illumination, over several frames, and measures the error against a reference image.
 // `restir-render --help` lists every flag.
+#include "error_metrics.hpp"
 #include "image_io.hpp"
 #include "renderer.hpp"
 #include "scene.hpp"

@@ -2,7 +2,7 @@
 // ReSTIR beats RIS beats uniform sampling against a reference rendered here, the reference
 // path tracer converges to the analytic radiance of a furnace, and images do not depend on
 // the thread count.
-#include "image_io.hpp"
+#include "error_metrics.hpp"
 #include "renderer.hpp"
 #include "scene.hpp"
 
