@@ -10,6 +10,7 @@
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -46,6 +47,40 @@ void progress(std::uint32_t done, std::uint32_t total, double frame_ms) {
     if (done == total)
         std::fputc('\n', stderr);
     std::fflush(stderr);
+}
+
+// The CSV's error measures of the accumulated image, after the bias columns: relMSE,
+// fireflies, row structure of the error and its autocorrelation at lags 1 to 8.
+constexpr std::uint32_t csv_lags = 8;
+
+std::string error_header() {
+    std::string header = "rel_mse,fireflies,p999,row_ratio,column_ratio";
+    for (const char* axis : {"acf_x", "acf_y"})
+        for (std::uint32_t lag = 1; lag <= csv_lags; ++lag)
+            header += "," + std::string(axis) + std::to_string(lag);
+    return header;
+}
+
+std::string number(double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.6g", value);
+    return text;
+}
+
+// The values of error_header()'s columns; empty ones without a reference.
+std::string error_columns(const pt::Image& image, const std::optional<pt::Image>& reference) {
+    if (!reference)
+        return std::string(5 + 2 * csv_lags - 1, ',');
+    const pt::FireflyMeasure fireflies = pt::firefly_measure(image, *reference);
+    const pt::RowStructure rows = pt::row_structure_of_error(image, *reference);
+    const pt::ErrorAutocorrelation acf = pt::error_autocorrelation(image, *reference, csv_lags);
+    std::string columns = number(pt::relative_mse(image, *reference)) + "," +
+                          std::to_string(fireflies.count) + "," + number(fireflies.p999) + "," +
+                          number(rows.row_ratio) + "," + number(rows.column_ratio);
+    for (const std::vector<double>* values : {&acf.acf_x, &acf.acf_y})
+        for (std::uint32_t lag = 1; lag <= csv_lags; ++lag)
+            columns += "," + number((*values)[lag]);
+    return columns;
 }
 
 } // namespace
@@ -216,11 +251,19 @@ int main(int argc, char** argv) {
         }
         std::ofstream csv;
         if (!options.csv.empty()) {
+            const std::filesystem::path parent = std::filesystem::path(options.csv).parent_path();
+            std::error_code error;
+            if (!parent.empty())
+                std::filesystem::create_directories(parent, error);
+            if (error)
+                fail("cannot create the directory " + parent.string() + " for " + options.csv +
+                     ": " + error.message());
             csv.open(options.csv);
             if (!csv)
                 fail("cannot write " + options.csv);
             csv << "frame,rmse,frame_rmse,frame_ms,elapsed_ms,primary_ms,photons_ms,candidates_ms,"
-                   "temporal_ms,spatial_ms,shading_ms,tiles_ms,bias,frame_bias\n";
+                   "temporal_ms,spatial_ms,shading_ms,tiles_ms,bias,frame_bias,"
+                << error_header() << '\n';
         }
 
         pt::Renderer renderer(scene, settings);
@@ -251,7 +294,8 @@ int main(int argc, char** argv) {
                 csv << f + 1 << ',' << error << ',' << frame_error << ',' << t.total << ','
                     << elapsed << ',' << t.primary << ',' << t.photons << ',' << t.candidates << ','
                     << t.temporal << ',' << t.spatial << ',' << t.shading << ',' << t.tiles << ','
-                    << bias << ',' << frame_bias << '\n';
+                    << bias << ',' << frame_bias << ','
+                    << error_columns(renderer.accumulated(), reference) << '\n';
             if (interactive)
                 progress(f + 1, options.frames, t.total);
         }

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -133,6 +134,66 @@ TEST(Cli, WritesTheImageTheCsvAndMeasuresAgainstAReference) {
             " --reference " + reference.string());
     EXPECT_EQ(r.status, 2);
     EXPECT_NE(r.err.find("12x12"), std::string::npos) << r.err;
+}
+
+std::vector<std::string> split(const std::string& line) {
+    std::vector<std::string> fields;
+    std::istringstream text(line);
+    std::string field;
+    while (std::getline(text, field, ','))
+        fields.push_back(field);
+    if (!line.empty() && line.back() == ',')
+        fields.emplace_back();
+    return fields;
+}
+
+TEST(Cli, CsvHasTheErrorMeasuresAndItsDirectoryIsMade) {
+    const fs::path dir = scratch_dir();
+    const fs::path reference = dir / "reference-12.exr";
+    Outcome r = run("--width 12 --height 12 --frames 1 --spp 16 --method reference --vpls 200 "
+                    "--out " +
+                    reference.string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const fs::path csv_dir = dir / "new-directory";
+    fs::remove_all(csv_dir);
+    const fs::path csv = csv_dir / "deeper" / "frames.csv";
+    r = run("--width 12 --height 12 --frames 2 --vpls 200 --out " + (dir / "x.png").string() +
+            " --reference " + reference.string() + " --csv " + csv.string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    std::istringstream lines(slurp(csv));
+    std::string line;
+    std::getline(lines, line);
+    const std::vector<std::string> header = split(line);
+    std::string expected = "frame,rmse,frame_rmse,frame_ms,elapsed_ms,primary_ms,photons_ms,"
+                           "candidates_ms,temporal_ms,spatial_ms,shading_ms,tiles_ms,bias,"
+                           "frame_bias,rel_mse,fireflies,p999,row_ratio,column_ratio";
+    for (const char* axis : {"acf_x", "acf_y"})
+        for (int lag = 1; lag <= 8; ++lag)
+            expected.append(",").append(axis).append(std::to_string(lag));
+    EXPECT_EQ(line, expected);
+    int rows = 0;
+    while (std::getline(lines, line)) {
+        ++rows;
+        const std::vector<std::string> fields = split(line);
+        ASSERT_EQ(fields.size(), header.size()) << line;
+        for (std::size_t i = 0; i < fields.size(); ++i) {
+            char* end = nullptr;
+            std::strtod(fields[i].c_str(), &end);
+            EXPECT_TRUE(!fields[i].empty() && *end == '\0') << header[i] << " = " << fields[i];
+        }
+    }
+    EXPECT_EQ(rows, 2);
+
+    // Without a reference the measures are empty, the columns still there.
+    r = run(small("--csv " + csv.string()));
+    ASSERT_EQ(r.status, 0) << r.err;
+    std::istringstream again(slurp(csv));
+    std::getline(again, line);
+    std::getline(again, line);
+    const std::vector<std::string> fields = split(line);
+    ASSERT_EQ(fields.size(), header.size()) << line;
+    EXPECT_EQ(fields.back(), "");
+    EXPECT_EQ(fields[1], "");
 }
 
 TEST(Cli, RendersTheSharedCornellBoxObj) {
