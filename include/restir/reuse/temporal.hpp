@@ -31,7 +31,7 @@ struct TemporalParams {
     /// pixels stop sharing correlated histories. Off by default.
     bool permutation_sampling = false;
     /// The pattern XORs this many low bits of each coordinate: the history comes from within
-    /// blocks of 2^bits x 2^bits pixels (1: 2 x 2, as in the paper).
+    /// blocks of 2^bits x 2^bits pixels (1: 2 x 2, as in the paper). At most 15.
     std::uint32_t permutation_bits = 1u;
     /// Frame number, which selects the permutation.
     std::uint32_t frame_index = 0u;
@@ -49,15 +49,22 @@ concept Reprojection = requires(const F& reproject, PixelCoord pixel) {
 };
 
 /// The previous-frame pixel that `pixel` reuses: the reprojected one, permuted when
-/// permutation sampling is on (the permutation is a bijection on 2 x 2 blocks).
+/// permutation sampling is on (a bijection on blocks of 2^bits x 2^bits pixels).
 RESTIR_HOST_DEVICE constexpr PixelCoord history_pixel(PixelCoord reprojected,
                                                       const TemporalParams& params) noexcept {
     if (!params.permutation_sampling)
         return reprojected;
-    const std::uint32_t mask = (1u << params.permutation_bits) - 1u;
-    const std::uint32_t pattern = static_cast<std::uint32_t>(mix64(params.frame_index));
+    // A pattern per frame and per block, so that over the image the history moves along x as
+    // often as along y (one pattern for the whole frame left the error of 20 accumulated frames
+    // correlated more along one axis, as the frames' draws happened to fall).
+    const std::uint32_t bits = params.permutation_bits;
+    const std::uint64_t block =
+        (std::uint64_t{static_cast<std::uint32_t>(reprojected.x) >> bits} << 32u) |
+        (static_cast<std::uint32_t>(reprojected.y) >> bits);
+    const std::uint64_t pattern = mix64(params.frame_index ^ mix64(block));
+    const std::uint32_t mask = (1u << bits) - 1u;
     return {reprojected.x ^ static_cast<std::int32_t>(pattern & mask),
-            reprojected.y ^ static_cast<std::int32_t>((pattern >> 16u) & mask)};
+            reprojected.y ^ static_cast<std::int32_t>((pattern >> 32u) & mask)};
 }
 
 /// A previous-frame reservoir with its M capped at `params.history_cap_multiplier` times the
