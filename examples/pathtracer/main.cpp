@@ -170,6 +170,9 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0u, 16u));
     app.add_option("--history-cap", settings.history_cap,
                    "Temporal history M cap, as a multiple of the current M (0: no cap)");
+    app.add_option("--permutation-sampling", settings.permutation_sampling,
+                   "Temporal reuse reads the history of a pixel permuted per frame in 2x2 "
+                   "blocks (true/false)");
     const std::map<std::string, restir::BiasCorrection> corrections{
         {"none", restir::BiasCorrection::none},
         {"one-over-z", restir::BiasCorrection::one_over_z},
@@ -195,6 +198,12 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0u, 100'000'000u));
     app.add_option("--vpl-bounces", settings.vpl_bounces, "Photon bounce limit")
         ->check(CLI::Range(1u, 64u));
+    app.add_option("--vpl-reshoot", settings.vpl_reshoot_interval,
+                   "Shoot a new, independent VPL set every N frames (0: one set for the whole "
+                   "render)")
+        ->check(CLI::Range(0u, 1'000'000u));
+    std::optional<std::uint64_t> vpl_seed;
+    app.add_option("--vpl-seed", vpl_seed, "Seed of the photons (default: --seed)");
     app.add_option("--attenuation-radius", settings.attenuation_radius,
                    "Yuksel attenuation radius of VPLs in scene units (0: 2 % of the scene size)")
         ->check(CLI::Range(0.0f, 1e30f));
@@ -209,6 +218,7 @@ int main(int argc, char** argv) {
     } catch (const CLI::ParseError& e) {
         fail(std::string(e.what()) + " (see --help)");
     }
+    settings.vpl_seed = vpl_seed.value_or(settings.seed);
     for (const auto& [name, values] :
          {std::pair{"--look-from", &options.look_from}, std::pair{"--look-at", &options.look_at}})
         if (!values->empty() && values->size() != 3)

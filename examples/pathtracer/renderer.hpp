@@ -49,8 +49,11 @@ struct RenderSettings {
     float radius = 0.0f; ///< Spatial radius in pixels; 0: 30 px per 1080 rows (the paper's 30
                          ///< at 1080p), at least 3.
     std::uint32_t spatial_passes = 1;
-    std::uint32_t history_cap = 20;
-    bool permutation_sampling = false; ///< restir::TemporalParams::permutation_sampling.
+    /// History M cap (multiple of the current M) and permutation sampling: chosen for the
+    /// accumulated image, where the paper's cap of 20 without permutation made consecutive
+    /// frames so alike that averaging them gained little (docs/noise-and-bias.md).
+    std::uint32_t history_cap = 4;
+    bool permutation_sampling = true; ///< restir::TemporalParams::permutation_sampling.
     restir::BiasCorrection bias_correction = restir::BiasCorrection::pairwise;
     bool visibility_reuse = true;
     bool mis_rays = true;          ///< restir::ReuseParams::trace_mis_visibility.

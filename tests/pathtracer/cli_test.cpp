@@ -64,18 +64,33 @@ void expect_one_line_error(const std::string& arguments, const std::string& need
 TEST(Cli, HelpDocumentsEveryFlagWithItsDefault) {
     const Outcome r = run("--help");
     EXPECT_EQ(r.status, 0);
-    for (const char* flag : {"--scene",       "--lights",
-                             "--method",      "--gi",
-                             "--spp",         "--frames",
-                             "--width",       "--height",
-                             "--look-from",   "--look-at",
-                             "--fov",         "--seed",
-                             "--threads",     "--out",
-                             "--reference",   "--csv",
-                             "--candidates",  "--neighbours",
-                             "--radius",      "--spatial-passes",
-                             "--history-cap", "--bias-correction",
-                             "--vpls",        "--attenuation-radius"})
+    for (const char* flag : {"--scene",
+                             "--lights",
+                             "--method",
+                             "--gi",
+                             "--spp",
+                             "--frames",
+                             "--width",
+                             "--height",
+                             "--look-from",
+                             "--look-at",
+                             "--fov",
+                             "--seed",
+                             "--threads",
+                             "--out",
+                             "--reference",
+                             "--csv",
+                             "--candidates",
+                             "--neighbours",
+                             "--radius",
+                             "--spatial-passes",
+                             "--history-cap",
+                             "--bias-correction",
+                             "--vpls",
+                             "--attenuation-radius",
+                             "--vpl-reshoot",
+                             "--vpl-seed",
+                             "--permutation-sampling"})
         EXPECT_NE(r.out.find(flag), std::string::npos) << flag;
     EXPECT_NE(r.out.find("restir"), std::string::npos);
 }

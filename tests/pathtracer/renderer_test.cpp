@@ -198,6 +198,61 @@ TEST(Renderer, RestirStaysUnbiasedUnderCameraMotion) {
         << "RIS " << brightness[0].mean() << ", ReSTIR " << brightness[1].mean();
 }
 
+// VPL reshooting: every `vpl_reshoot_interval` frames a new set, the same for the same VPL
+// seed and independent of the last. Each frame must estimate the light of its own set: with
+// the VPL seed fixed and the pixel seed varied, ReSTIR's frame 2 (a new set: no temporal reuse)
+// and frame 3 (temporal reuse within that set) match the reference path tracer's same frames
+// in mean brightness. Few VPLs make the sets differ clearly, so a frame that mixed in the last
+// set's samples would miss.
+TEST(Renderer, ReshotVplSetsAreNewAndEachFrameEstimatesItsOwnSet) {
+    const pt::Scene scene = pt::make_cornell_box();
+    pt::RenderSettings s = tiny(scene, 24);
+    s.vpls = 40;
+    s.vpl_reshoot_interval = 2;
+    s.vpl_seed = 5;
+    const auto first_position = [](const pt::Renderer& r) { return r.vpls().front().position; };
+    pt::Renderer a(scene, s), b(scene, s);
+    std::vector<glm::vec3> firsts;
+    for (std::uint32_t f = 0; f < 5; ++f) {
+        a.render_frame();
+        b.render_frame();
+        ASSERT_FALSE(a.vpls().empty());
+        EXPECT_EQ(first_position(a), first_position(b)) << "frame " << f;
+        firsts.push_back(first_position(a));
+    }
+    EXPECT_EQ(firsts[0], firsts[1]); // frames 0, 1: set 0
+    EXPECT_NE(firsts[1], firsts[2]); // frame 2: set 1
+    EXPECT_EQ(firsts[2], firsts[3]);
+    EXPECT_NE(firsts[3], firsts[4]); // frame 4: set 2
+
+    constexpr int seeds = 16;
+    restir::test::RunningStats brightness[2][2]; // [method][frame 2, frame 3]
+    const Method methods[2] = {Method::reference, Method::restir};
+    for (int m = 0; m < 2; ++m)
+        for (std::uint64_t seed = 1; seed <= seeds; ++seed) {
+            s.method = methods[m];
+            s.seed = seed;
+            pt::Renderer renderer(scene, s);
+            for (std::uint32_t f = 0; f < 4; ++f) {
+                renderer.render_frame();
+                if (f < 2)
+                    continue;
+                double sum = 0.0;
+                for (const glm::vec3& p : renderer.last_frame().pixels)
+                    sum += static_cast<double>(p.x + p.y + p.z);
+                brightness[m][f - 2].add(sum);
+            }
+        }
+    for (int f = 0; f < 2; ++f) {
+        const double difference = brightness[1][f].mean() - brightness[0][f].mean();
+        const double error =
+            std::hypot(brightness[0][f].standard_error(), brightness[1][f].standard_error());
+        EXPECT_LT(std::abs(difference), 4.0 * error)
+            << "frame " << f + 2 << ": reference " << brightness[0][f].mean() << ", ReSTIR "
+            << brightness[1][f].mean();
+    }
+}
+
 TEST(Renderer, SceneWithoutEmittersIsAnError) {
     pt::Scene scene = furnace(0.5f);
     scene.materials[0].emission = glm::vec3(0.0f);
