@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # How the accumulated image converges against a reference of the same VPL set: RIS, ReSTIR
 # with temporal reuse only, and ReSTIR with the renderer's defaults, each for FRAMES frames
-# (RIS for four times as many, for the equal-time comparison). Prints, per method, the RMSE
+# (RIS for six times as many, for the equal-time comparison). Prints, per method, the RMSE
 # after FRAMES frames and of the last frame alone, the relative MSE, the firefly measure, the
 # largest difference between the error's autocorrelation along x and along y (lags 1-8) and
 # the time; then ReSTIR's RMSE against RIS's at equal time. Plots RMSE and the firefly measure
@@ -60,7 +60,7 @@ run() { # NAME FRAMES FLAGS...
   "$render" "${common[@]}" --seed 2 --frames "$count" --reference "$reference" \
     --csv "$dir/$method.csv" --out "$dir/$method.exr" --out "$dir/$method.png" "$@" >/dev/null
 }
-run ris $((4 * frames)) --method ris
+run ris $((6 * frames)) --method ris
 run restir-temporal "$frames" --method restir --spatial-passes 0 "${restir_flags[@]}"
 run restir "$frames" --method restir "${restir_flags[@]}"
 

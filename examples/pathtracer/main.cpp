@@ -155,8 +155,10 @@ int main(int argc, char** argv) {
     app.add_option("--reference", options.reference,
                    "Reference image (.exr or .pfm) for the RMSE after every frame");
     app.add_option("--csv", options.csv,
-                   "CSV of frame, rmse (accumulated image), frame_rmse (last frame alone), "
-                   "frame_ms, elapsed_ms and the phase timings");
+                   "CSV per frame: rmse (accumulated image), frame_rmse (last frame alone), "
+                   "frame_ms, elapsed_ms, the phase timings, bias, and the error measures of "
+                   "docs/renderer.md (rel_mse, fireflies, p999, row/column ratio, "
+                   "autocorrelation)");
     // The library's parameters.
     app.add_option("--candidates", settings.candidates, "RIS candidates per pixel (M)")
         ->check(CLI::Range(1u, 4096u));
