@@ -51,14 +51,18 @@ reference=$dir/reference-${reference_spp}spp.exr
 if [ ! -f "$reference" ]; then
   echo "reference: $reference_spp spp of the VPL reference (--method reference --gi vpl)"
   "$render" "${common[@]}" --seed 99 --method reference --spp "$reference_spp" --frames 1 \
-    --out "$reference" --out "$dir/reference.png" | tail -n 1
+    --out "$reference" --out "$dir/reference.png" | tee "$dir/reference.log" | tail -n 1
 fi
+# Every PNG with the exposure of the reference's, so that they compare side by side.
+exposure=0
+[ -f "$dir/reference.log" ] && exposure=$(sed -n 's/.*(exposure \(.*\))$/\1/p' "$dir/reference.log" | tail -n 1)
 
 run() { # NAME FRAMES FLAGS...
   local method=$1 count=$2
   shift 2
   "$render" "${common[@]}" --seed 2 --frames "$count" --reference "$reference" \
-    --csv "$dir/$method.csv" --out "$dir/$method.exr" --out "$dir/$method.png" "$@" >/dev/null
+    --csv "$dir/$method.csv" --out "$dir/$method.exr" --out "$dir/$method.png" \
+    --exposure "${exposure:-0}" "$@" >/dev/null
 }
 run ris $((6 * frames)) --method ris
 run restir-temporal "$frames" --method restir --spatial-passes 0 "${restir_flags[@]}"
