@@ -175,6 +175,10 @@ int main(int argc, char** argv) {
     app.add_option("--permutation-sampling", settings.permutation_sampling,
                    "Temporal reuse reads the history of a pixel permuted per frame in 2x2 "
                    "blocks (true/false)");
+    app.add_option("--boiling-filter", settings.boiling_threshold,
+                   "Boiling filter after spatial reuse: empty reservoirs whose contribution "
+                   "exceeds this multiple of their 9x9 neighbourhood's (0: off; biased)")
+        ->check(CLI::Range(0.0f, 1e30f));
     const std::map<std::string, restir::BiasCorrection> corrections{
         {"none", restir::BiasCorrection::none},
         {"one-over-z", restir::BiasCorrection::one_over_z},

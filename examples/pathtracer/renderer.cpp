@@ -813,6 +813,22 @@ FrameTimings Renderer::render_frame() {
             });
             std::swap(im.reservoirs, im.scratch);
         }
+        // Boiling filter: empties reservoirs far brighter than their neighbourhood; they stay
+        // empty in the history too.
+        if (rs.boiling_threshold > 0.0f) {
+            const restir::ImageView<const Reservoir> input{im.reservoirs.data(), rs.width,
+                                                           rs.height};
+            restir::BoilingFilterParams boiling = restir::default_boiling_filter_params();
+            boiling.threshold = rs.boiling_threshold;
+            im.for_each_block([&](const Impl::PixelBlock& block) {
+                im.for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
+                    im.scratch[i] = restir::boiling_filter(
+                        {static_cast<std::int32_t>(x), static_cast<std::int32_t>(y)}, input,
+                        boiling);
+                });
+            });
+            std::swap(im.reservoirs, im.scratch);
+        }
         t.spatial = milliseconds_since(start);
 
         // Shading: the final visibility ray, which with visibility reuse also zeroes W of an

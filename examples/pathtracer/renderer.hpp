@@ -54,6 +54,9 @@ struct RenderSettings {
     /// frames so alike that averaging them gained little (docs/noise-and-bias.md).
     std::uint32_t history_cap = 4;
     bool permutation_sampling = true; ///< restir::TemporalParams::permutation_sampling.
+    /// Boiling filter threshold (restir::boiling_filter, 9 x 9 window) after the spatial
+    /// passes; 0: off (the filter removes energy, so it is biased).
+    float boiling_threshold = 0.0f;
     restir::BiasCorrection bias_correction = restir::BiasCorrection::pairwise;
     bool visibility_reuse = true;
     bool mis_rays = true;          ///< restir::ReuseParams::trace_mis_visibility.

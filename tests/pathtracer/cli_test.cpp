@@ -90,7 +90,8 @@ TEST(Cli, HelpDocumentsEveryFlagWithItsDefault) {
                              "--attenuation-radius",
                              "--vpl-reshoot",
                              "--vpl-seed",
-                             "--permutation-sampling"})
+                             "--permutation-sampling",
+                             "--boiling-filter"})
         EXPECT_NE(r.out.find(flag), std::string::npos) << flag;
     EXPECT_NE(r.out.find("restir"), std::string::npos);
 }

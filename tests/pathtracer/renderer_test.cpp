@@ -253,6 +253,24 @@ TEST(Renderer, ReshotVplSetsAreNewAndEachFrameEstimatesItsOwnSet) {
     }
 }
 
+// The boiling filter runs after the spatial passes and only empties reservoirs: on the first
+// frame (same random numbers up to the filter) every pixel is at most as bright as without it,
+// and a low threshold empties some.
+TEST(Renderer, BoilingFilterOnlyEmptiesReservoirs) {
+    const pt::Scene scene = pt::make_cornell_box();
+    pt::RenderSettings s = tiny(scene, 24);
+    const pt::Image plain = render(scene, s, 1);
+    s.boiling_threshold = 1.5f;
+    const pt::Image filtered = render(scene, s, 1);
+    std::size_t darker = 0;
+    for (std::size_t i = 0; i < plain.pixels.size(); ++i)
+        for (int c = 0; c < 3; ++c) {
+            ASSERT_LE(filtered.pixels[i][c], plain.pixels[i][c]) << "pixel " << i;
+            darker += filtered.pixels[i][c] < plain.pixels[i][c] ? 1u : 0u;
+        }
+    EXPECT_GT(darker, 0u);
+}
+
 TEST(Renderer, SceneWithoutEmittersIsAnError) {
     pt::Scene scene = furnace(0.5f);
     scene.materials[0].emission = glm::vec3(0.0f);
