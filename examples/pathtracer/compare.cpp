@@ -1,6 +1,7 @@
 // restir-compare: the example renderer's error measures of an image against a reference, and
 // the row structure of an image on its own (how streaks in a reference image are measured).
 // Prints one `name value` line per measure; `restir-compare --help` lists the flags.
+#include "command_line.hpp"
 #include "error_metrics.hpp"
 #include "image_io.hpp"
 
@@ -16,10 +17,7 @@
 
 namespace {
 
-[[noreturn]] void fail(const std::string& message) {
-    std::cerr << "restir-compare: error: " << message << "\n";
-    std::exit(2);
-}
+[[noreturn]] void fail(const std::string& message) { pt::fail("restir-compare", message); }
 
 void print(const std::string& name, double value) { std::printf("%s %.6g\n", name.c_str(), value); }
 
@@ -66,14 +64,7 @@ int main(int argc, char** argv) {
                                      "Use the back wall of the built-in Cornell box as region");
     region->excludes(wall);
 
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::CallForHelp&) {
-        std::cout << app.help();
-        return 0;
-    } catch (const CLI::ParseError& e) {
-        fail(std::string(e.what()) + " (see --help)");
-    }
+    pt::parse_command_line(app, argc, argv, "restir-compare");
     if (!region_values.empty() && region_values.size() != 4)
         fail("--region needs four numbers x0,y0,x1,y1, got " +
              std::to_string(region_values.size()));

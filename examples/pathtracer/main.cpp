@@ -2,6 +2,7 @@
 // RIS, ReSTIR or a reference path tracer, with optional VPL or path-traced global
 // illumination, over several frames, and measures the error against a reference image.
 // `restir-render --help` lists every flag.
+#include "command_line.hpp"
 #include "error_metrics.hpp"
 #include "image_io.hpp"
 #include "renderer.hpp"
@@ -34,10 +35,7 @@ struct Options {
     std::string csv;
 };
 
-[[noreturn]] void fail(const std::string& message) {
-    std::cerr << "restir-render: error: " << message << "\n";
-    std::exit(2);
-}
+[[noreturn]] void fail(const std::string& message) { pt::fail("restir-render", message); }
 
 void progress(std::uint32_t done, std::uint32_t total, double frame_ms) {
     constexpr std::size_t width = 30;
@@ -216,14 +214,7 @@ int main(int argc, char** argv) {
     app.add_option("--max-depth", settings.max_depth, "Path length limit (reference, gi path)")
         ->check(CLI::Range(1u, 1024u));
 
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::CallForHelp&) {
-        std::cout << app.help();
-        return 0;
-    } catch (const CLI::ParseError& e) {
-        fail(std::string(e.what()) + " (see --help)");
-    }
+    pt::parse_command_line(app, argc, argv, "restir-render");
     settings.vpl_seed = vpl_seed.value_or(settings.seed);
     for (const auto& [name, values] :
          {std::pair{"--look-from", &options.look_from}, std::pair{"--look-at", &options.look_at}})
