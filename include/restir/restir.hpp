@@ -5,6 +5,7 @@
 #include "restir/config.hpp"
 
 #include "restir/concepts.hpp"
+#include "restir/core/channels.hpp"
 #include "restir/core/discrete_sample.hpp"
 #include "restir/core/math.hpp"
 #include "restir/core/reservoir.hpp"

@@ -436,6 +436,21 @@ TEST(LightTileArrays, BlockTargetsMatchUnshadowedIrradiance) {
         // The receivers see lights from the front and from behind, and lights facing away.
         EXPECT_GT(zero, 40);
         EXPECT_GT(positive, 40);
+        // The Euclidean fold: |channel_weights * E| per entry.
+        for (const Receiver& at : receivers(entries)) {
+            CandidateBlock<8> block;
+            restir::evaluate_tile_block<8, restir::ChannelNorm::euclidean>(
+                tiles, 1u, 8u, at.position, at.normal, channel_weights, block);
+            for (std::uint32_t i = 0; i < block.size; ++i) {
+                const restir::PresampledLight& e = entries[8u + i];
+                if (!(e.pdf > 0.0f))
+                    continue;
+                const glm::vec3 f = channel_weights * restir::unshadowed_irradiance(
+                                                          e.point, at.position, at.normal, falloff);
+                const double expected = std::sqrt(static_cast<double>(glm::dot(f, f)));
+                EXPECT_NEAR(static_cast<double>(block.target[i]), expected, 1e-5 * expected + 1e-7);
+            }
+        }
     }
 }
 

@@ -7,6 +7,7 @@
 #pragma once
 
 #include "restir/config.hpp"
+#include "restir/core/channels.hpp"
 #include "restir/core/math.hpp"
 #include "restir/light/attenuation.hpp"
 #include "restir/light/irradiance.hpp"
@@ -129,12 +130,13 @@ struct LightTileArrays {
 };
 
 /// Target values of the `Size` consecutive entries [first, first + Size) of tile `tile` at a
-/// receiver (`position`, `normal`): p-hat_i = dot(channel_weights, E_i), E_i the unshadowed
-/// irradiance (`folded_irradiance_factor` times the entry's intensity; channel_weights =
-/// albedo / pi gives the channel sum of a diffuse receiver's reflected radiance). `Size` and
-/// `first` are multiples of `tile_group_size`. Fills `block` and returns the global entry
-/// index of its lane 0, as `resample_ris_batch` expects.
-template <std::uint32_t Size>
+/// receiver (`position`, `normal`): p-hat_i = fold_channels<Norm>(channel_weights * E_i), E_i
+/// the unshadowed irradiance (`folded_irradiance_factor` times the entry's intensity;
+/// channel_weights = albedo / pi gives a diffuse receiver's reflected radiance; with
+/// ChannelNorm::sum, dot(channel_weights, E_i)). `Size` and `first` are multiples of
+/// `tile_group_size`. Fills `block` and returns the global entry index of its lane 0, as
+/// `resample_ris_batch` expects.
+template <std::uint32_t Size, ChannelNorm Norm = ChannelNorm::sum>
 RESTIR_HOST_DEVICE std::uint32_t
 evaluate_tile_block(const LightTileArrays& tiles, std::uint32_t tile, std::uint32_t first,
                     glm::vec3 position, glm::vec3 normal, glm::vec3 channel_weights,
@@ -169,8 +171,9 @@ evaluate_tile_block(const LightTileArrays& tiles, std::uint32_t tile, std::uint3
             const float factor = folded_irradiance_factor(
                 px[i] - position.x, py[i] - position.y, pz[i] - position.z, normal, nx[i], ny[i],
                 nz[i], isotropic[i], radius2[i], min_distance2[i]);
-            const float intensity = channel_weights.x * red[i] + channel_weights.y * green[i] +
-                                    channel_weights.z * blue[i];
+            const float intensity =
+                fold_channels<Norm>({channel_weights.x * red[i], channel_weights.y * green[i],
+                                     channel_weights.z * blue[i]});
             const float v = intensity * factor;
             target[i] = is_valid_weight(v) ? v : 0.0f;
             weight_scale[i] = inverse_pdf[i];
