@@ -43,9 +43,9 @@ bash scripts/render.sh --width 8 --height 8 --frames 1 --out out/warm-up.png >/d
 render=build/render/examples/pathtracer/restir-render
 dir=out/convergence/$name
 mkdir -p "$dir"
-# One VPL set (--vpl-seed 1) for all; the reference's pixel samples are independent of the
-# methods' (--seed 99 against --seed 2).
-common=(--scene "$scene" --gi vpl --width "$width" --height "$height" --vpl-seed 1)
+# One scene layout and one VPL set (--scene-seed 1, --vpl-seed 1) for all; the reference's
+# pixel samples are independent of the methods' (--seed 99 against --seed 2).
+common=(--scene "$scene" --gi vpl --width "$width" --height "$height" --scene-seed 1 --vpl-seed 1)
 
 reference=$dir/reference-${reference_spp}spp.exr
 if [ ! -f "$reference" ]; then

@@ -26,6 +26,7 @@ namespace {
 struct Options {
     std::string scene = "cornell";
     std::uint32_t lights = 1000;
+    std::uint64_t scene_seed = 0;
     std::vector<float> look_from, look_at;
     std::optional<float> fov;
     std::uint32_t frames = 16;
@@ -100,6 +101,9 @@ int main(int argc, char** argv) {
                    "FILE.obj");
     app.add_option("--lights", options.lights, "Emissive quads of the many-lights scene")
         ->check(CLI::Range(1u, 10'000'000u));
+    app.add_option("--scene-seed", options.scene_seed,
+                   "Seed of the many-lights scene's layout (apart from --seed, so that renders "
+                   "with other pixel seeds see the same scene)");
     const std::map<std::string, pt::Method> methods{{"uniform", pt::Method::uniform},
                                                     {"ris", pt::Method::ris},
                                                     {"restir", pt::Method::restir},
@@ -231,7 +235,7 @@ int main(int argc, char** argv) {
         if (options.scene == "cornell")
             scene = pt::make_cornell_box();
         else if (options.scene == "many-lights")
-            scene = pt::make_many_lights(options.lights, settings.seed);
+            scene = pt::make_many_lights(options.lights, options.scene_seed);
         else
             scene = pt::load_obj(options.scene);
 
