@@ -91,7 +91,8 @@ TEST(Cli, HelpDocumentsEveryFlagWithItsDefault) {
                              "--vpl-reshoot",
                              "--vpl-seed",
                              "--permutation-sampling",
-                             "--boiling-filter"})
+                             "--boiling-filter",
+                             "--scene-seed"})
         EXPECT_NE(r.out.find(flag), std::string::npos) << flag;
     EXPECT_NE(r.out.find("restir"), std::string::npos);
 }
