@@ -22,8 +22,11 @@ struct Outcome {
     std::string out;
 };
 
+// One folder per test: ctest runs the tests of this file as parallel processes.
 fs::path scratch_dir() {
-    const fs::path dir = fs::temp_directory_path() / "restir-cli-test";
+    const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
+    const fs::path dir = fs::temp_directory_path() / "restir-cli-test" /
+                         (std::string(test->test_suite_name()) + "." + test->name());
     fs::create_directories(dir);
     return dir;
 }
