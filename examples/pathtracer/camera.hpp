@@ -4,14 +4,48 @@
 
 #include "scene.hpp"
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
 namespace pt {
+
+/// Largest camera coordinate accepted: Embree rejects rays whose origin lies beyond about
+/// 1.8e18, and the image needs room around the camera.
+inline constexpr float max_camera_coordinate = 1e15f;
+
+/// Throws SceneError, naming the problem, when `setup` cannot form rays: a position or target
+/// that is not finite or beyond max_camera_coordinate, the two (nearly) the same point, a zero
+/// or non-finite up vector, or a field of view outside (0, 180) degrees.
+inline void check_camera(const CameraSetup& setup) {
+    const auto finite = [](glm::vec3 v) {
+        return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+    };
+    const auto in_range = [](glm::vec3 v) {
+        const glm::vec3 a = glm::abs(v);
+        return a.x <= max_camera_coordinate && a.y <= max_camera_coordinate &&
+               a.z <= max_camera_coordinate;
+    };
+    if (!finite(setup.look_from) || !finite(setup.look_at))
+        throw SceneError("the camera position and target must be finite numbers");
+    if (!in_range(setup.look_from) || !in_range(setup.look_at))
+        throw SceneError("the camera position and target must lie within 1e15 of the origin "
+                         "(is the scene that large?)");
+    const glm::vec3 view = setup.look_at - setup.look_from;
+    const float scale = std::max({1.0f, glm::length(setup.look_from), glm::length(setup.look_at)});
+    if (!finite(view) || !(glm::length(view) > 1e-6f * scale))
+        throw SceneError("the camera position and target are the same point: give --look-from "
+                         "and --look-at apart");
+    if (!finite(setup.up) || !(glm::length(setup.up) > 0.0f))
+        throw SceneError("the camera's up vector must be finite and non-zero");
+    if (!(setup.fov_degrees > 0.0f && setup.fov_degrees < 180.0f))
+        throw SceneError("the field of view must lie between 0 and 180 degrees");
+}
 
 class Camera {
 public:
@@ -20,7 +54,7 @@ public:
         : position_(setup.look_from), width_(static_cast<float>(width)),
           height_(static_cast<float>(height)) {
         forward_ = glm::normalize(setup.look_at - setup.look_from);
-        right_ = glm::normalize(glm::cross(forward_, setup.up));
+        right_ = glm::normalize(glm::cross(forward_, up_for(forward_, setup.up)));
         up_ = glm::cross(right_, forward_);
         tan_half_ = std::tan(0.5f * setup.fov_degrees * 0.017453292519943295f);
         aspect_ = width_ / height_;
@@ -49,6 +83,18 @@ public:
     }
 
 private:
+    // `up`, or when the view looks (nearly) along it, the world axis least aligned with the
+    // view, so that looking straight down still has a right vector.
+    static glm::vec3 up_for(glm::vec3 forward, glm::vec3 up) {
+        const glm::vec3 side = glm::cross(forward, up);
+        if (glm::dot(side, side) > 1e-8f * glm::dot(up, up))
+            return up;
+        const glm::vec3 a = glm::abs(forward);
+        return a.x <= a.y && a.x <= a.z ? glm::vec3(1.0f, 0.0f, 0.0f)
+               : a.y <= a.z             ? glm::vec3(0.0f, 1.0f, 0.0f)
+                                        : glm::vec3(0.0f, 0.0f, 1.0f);
+    }
+
     glm::vec3 position_{0.0f}, forward_{0.0f, 0.0f, -1.0f}, right_{1.0f, 0.0f, 0.0f},
         up_{0.0f, 1.0f, 0.0f};
     float width_ = 1.0f, height_ = 1.0f, tan_half_ = 1.0f, aspect_ = 1.0f;

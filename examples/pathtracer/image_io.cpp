@@ -439,6 +439,10 @@ void write_png(const std::filesystem::path& path, const Image& image, float expo
 
 } // namespace
 
+void check_output_format(const std::filesystem::path& path) {
+    format_of(path, ".exr, .png or .pfm");
+}
+
 void write_image(const std::filesystem::path& path, const Image& image, float exposure) {
     const Format format = format_of(path, ".exr, .png or .pfm");
     check_writable(path, image);

@@ -35,6 +35,10 @@ struct ImageError : std::runtime_error {
 /// parent directory if needed. Throws ImageError on an unknown extension or a failed write.
 void write_image(const std::filesystem::path& path, const Image& image, float exposure = 0.0f);
 
+/// Throws ImageError unless `path`'s extension names a format `write_image` writes: for
+/// checking outputs before a long render.
+void check_output_format(const std::filesystem::path& path);
+
 /// Reads a linear .exr or .pfm image. Throws ImageError when the file is missing, malformed or
 /// of another format.
 Image read_image(const std::filesystem::path& path);

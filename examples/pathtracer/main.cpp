@@ -2,6 +2,7 @@
 // RIS, ReSTIR or a reference path tracer, with optional VPL or path-traced global
 // illumination, over several frames, and measures the error against a reference image.
 // `restir-render --help` lists every flag.
+#include "camera.hpp"
 #include "command_line.hpp"
 #include "error_metrics.hpp"
 #include "image_io.hpp"
@@ -10,7 +11,9 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -37,6 +40,18 @@ struct Options {
 };
 
 [[noreturn]] void fail(const std::string& message) { pt::fail("restir-render", message); }
+
+// CLI11's Range lets NaN through (every comparison with it is false): the float flags check
+// for a finite number first.
+const CLI::Validator finite_number(
+    [](std::string& text) -> std::string {
+        char* end = nullptr;
+        const float value = std::strtof(text.c_str(), &end);
+        if (end == text.c_str())
+            return {}; // not a number at all: CLI11's conversion reports it
+        return std::isfinite(value) ? std::string{} : "'" + text + "' is not a finite number";
+    },
+    "", "finite");
 
 void progress(std::uint32_t done, std::uint32_t total, double frame_ms) {
     constexpr std::size_t width = 30;
@@ -130,12 +145,14 @@ int main(int argc, char** argv) {
     app.add_option("--height", settings.height, "Image height")->check(CLI::Range(1u, 16384u));
     app.add_option("--look-from", options.look_from, "Camera position x,y,z")
         ->delimiter(',')
-        ->expected(3);
+        ->expected(3)
+        ->check(finite_number);
     app.add_option("--look-at", options.look_at, "Point the camera looks at, x,y,z")
         ->delimiter(',')
-        ->expected(3);
+        ->expected(3)
+        ->check(finite_number);
     app.add_option("--fov", options.fov, "Vertical field of view in degrees")
-        ->check(CLI::Range(1.0f, 179.0f));
+        ->check(finite_number & CLI::Range(1.0f, 179.0f));
     const std::map<std::string, pt::CameraMotion> motions{{"none", pt::CameraMotion::none},
                                                           {"orbit", pt::CameraMotion::orbit}};
     app.add_option("--camera-motion", settings.motion,
@@ -153,7 +170,8 @@ int main(int argc, char** argv) {
                    "for several")
         ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
     app.add_option("--exposure", options.exposure,
-                   "PNG exposure in stops (default: automatic, average luminance to 0.18)");
+                   "PNG exposure in stops (default: automatic, average luminance to 0.18)")
+        ->check(finite_number);
     app.add_option("--reference", options.reference,
                    "Reference image (.exr or .pfm) for the RMSE after every frame");
     app.add_option("--csv", options.csv,
@@ -169,7 +187,7 @@ int main(int argc, char** argv) {
     app.add_option("--radius", settings.radius,
                    "Spatial reuse radius in pixels (0: the paper's 30 px at 1080 rows, scaled "
                    "to the image height, at least 3)")
-        ->check(CLI::Range(0.0f, 1000.0f));
+        ->check(finite_number & CLI::Range(0.0f, 1000.0f));
     app.add_option("--spatial-passes", settings.spatial_passes, "Spatial reuse passes")
         ->check(CLI::Range(0u, 16u));
     app.add_option("--history-cap", settings.history_cap,
@@ -180,7 +198,7 @@ int main(int argc, char** argv) {
     app.add_option("--boiling-filter", settings.boiling_threshold,
                    "Boiling filter after spatial reuse: empty reservoirs whose contribution "
                    "exceeds this multiple of their 9x9 neighbourhood's (0: off; biased)")
-        ->check(CLI::Range(0.0f, 1e30f));
+        ->check(finite_number & CLI::Range(0.0f, 1e30f));
     const std::map<std::string, restir::BiasCorrection> corrections{
         {"none", restir::BiasCorrection::none},
         {"one-over-z", restir::BiasCorrection::one_over_z},
@@ -214,7 +232,7 @@ int main(int argc, char** argv) {
     app.add_option("--vpl-seed", vpl_seed, "Seed of the photons (default: --seed)");
     app.add_option("--attenuation-radius", settings.attenuation_radius,
                    "Yuksel attenuation radius of VPLs in scene units (0: 2 % of the scene size)")
-        ->check(CLI::Range(0.0f, 1e30f));
+        ->check(finite_number & CLI::Range(0.0f, 1e30f));
     app.add_option("--max-depth", settings.max_depth, "Path length limit (reference, gi path)")
         ->check(CLI::Range(1u, 1024u));
 
@@ -250,6 +268,9 @@ int main(int argc, char** argv) {
             settings.camera.look_at = {options.look_at[0], options.look_at[1], options.look_at[2]};
         if (options.fov)
             settings.camera.fov_degrees = *options.fov;
+        pt::check_camera(settings.camera);
+        for (const std::string& out : options.outs)
+            pt::check_output_format(out); // before the render, not after it
 
         std::optional<pt::Image> reference;
         if (!options.reference.empty()) {

@@ -121,6 +121,42 @@ TEST(Cli, BadInputIsOneLineAndStatusTwo) {
         "--width 8 --height 8 --frames 1 --vpls 200 --out " + (dir / "image.bmp").string(), ".bmp");
 }
 
+// Inputs that used to crash the renderer inside Embree (rays from a degenerate camera) or that
+// were silently replaced or accepted (NaN in float flags): now one-line errors, status 2.
+TEST(Cli, DegenerateCamerasAndNonFiniteNumbersAreOneLineErrors) {
+    expect_one_line_error(small("--look-from 1,1,1 --look-at 1,1,1"), "same point");
+    expect_one_line_error(small("--look-from 1e19,0,0"), "1e15");
+    for (const char* flag :
+         {"--fov", "--radius", "--attenuation-radius", "--exposure", "--boiling-filter"})
+        for (const char* value : {"nan", "inf", "-inf"})
+            expect_one_line_error(small(std::string(flag) + " " + value), flag);
+    expect_one_line_error(small("--look-from nan,0,0"), "--look-from");
+    expect_one_line_error(small("--look-at 0,inf,0"), "--look-at");
+    // An OBJ whose automatic framing puts the camera beyond the range Embree accepts.
+    const fs::path obj = scratch_dir() / "huge.obj";
+    std::ofstream(obj) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1e19 0 0\nf 1 4 3\nf 1 2 3\n";
+    expect_one_line_error(small("--scene " + obj.string()), "1e15");
+}
+
+// Looking straight down the up axis used to give the camera no right vector (NaN rays).
+TEST(Cli, LookingAlongTheUpAxisRenders) {
+    const Outcome r = run(small("--look-from 278,900,-279 --look-at 278,0,-279"));
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.out.find("wrote"), std::string::npos) << r.out;
+}
+
+// An output the renderer cannot write is reported before the render, and no other output is
+// written.
+TEST(Cli, UnknownOutputFormatFailsBeforeTheRender) {
+    const fs::path dir = scratch_dir();
+    fs::remove(dir / "first.png");
+    expect_one_line_error("--width 8 --height 8 --frames 1 --vpls 200 --out " +
+                              (dir / "first.png").string() + " --out " +
+                              (dir / "second.bmp").string(),
+                          ".bmp");
+    EXPECT_FALSE(fs::exists(dir / "first.png"));
+}
+
 TEST(Cli, WritesTheImageTheCsvAndMeasuresAgainstAReference) {
     const fs::path dir = scratch_dir();
     const fs::path reference = dir / "reference.exr";
