@@ -302,6 +302,10 @@ int main(int argc, char** argv) {
         std::printf("scene %s: %u triangles, %u emitters, %zu VPLs; %ux%u, %u frame(s)\n",
                     scene.name.c_str(), scene.triangle_count(), renderer.emitter_count(),
                     renderer.vpl_count(), settings.width, settings.height, options.frames);
+        if (settings.gi == pt::GlobalIllumination::vpl && settings.vpls > 0 &&
+            renderer.vpl_count() == 0)
+            std::cerr << "restir-render: warning: no photon left a VPL (no surface reflects "
+                         "light): the indirect light is black\n";
         const bool interactive = isatty(fileno(stderr)) != 0;
         double elapsed = 0.0;
         for (std::uint32_t f = 0; f < options.frames; ++f) {

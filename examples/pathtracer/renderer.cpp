@@ -584,18 +584,24 @@ void Renderer::shoot_vpls(std::uint32_t generation) {
             im.arena.execute(
                 [&] { tbb::parallel_for(0u, count, [&](std::uint32_t i) { body(i); }); });
         };
-        if (photon_count_ == 0u) {
-            // A pilot pass measures VPLs per photon, so that the budget gives about `vpls` VPLs.
+        if (!photons_per_set_) {
+            // A pilot pass measures VPLs per photon, so that the budget gives about `vpls` VPLs,
+            // with at most 64 photons per VPL asked for; a pilot that leaves no VPL at all (no
+            // surface reflects) means no VPLs, not a hundred million more photons.
             params.photon_count = std::min<std::uint32_t>(settings_.vpls, 4096u);
             const std::size_t pilot =
                 restir::shoot_photons(emitters_, rays_, scatter, params, parallel_for).size();
-            const double per_photon =
-                std::max(1e-3, static_cast<double>(pilot) / params.photon_count);
-            photon_count_ = static_cast<std::uint32_t>(
-                std::clamp(std::ceil(settings_.vpls / per_photon), 1.0, 4.0e9));
+            const double per_photon = static_cast<double>(pilot) / params.photon_count;
+            photons_per_set_ =
+                pilot == 0u ? 0u
+                            : static_cast<std::uint32_t>(std::clamp(
+                                  std::ceil(settings_.vpls / per_photon), 1.0,
+                                  std::min(4.0e9, 64.0 * static_cast<double>(settings_.vpls))));
         }
-        params.photon_count = photon_count_;
-        vpls_ = restir::shoot_photons(emitters_, rays_, scatter, params, parallel_for);
+        params.photon_count = *photons_per_set_;
+        vpls_ = params.photon_count > 0u
+                    ? restir::shoot_photons(emitters_, rays_, scatter, params, parallel_for)
+                    : std::vector<restir::Vpl>{};
         photon_ms_ = milliseconds_since(start);
     }
 

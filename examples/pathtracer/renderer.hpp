@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace pt {
@@ -96,6 +97,8 @@ public:
     const Image& last_frame() const { return frame_image_; }
     std::uint32_t frames_rendered() const { return frame_; }
     std::size_t vpl_count() const { return vpls_.size(); }
+    /// Photons shot per VPL set (0 when the pilot pass left no VPL, or without VPLs).
+    std::uint32_t photons_per_set() const { return photons_per_set_.value_or(0u); }
     /// The VPL set of the last frame (a new one every `vpl_reshoot_interval` frames).
     const std::vector<restir::Vpl>& vpls() const { return vpls_; }
     /// Pixels whose primary ray found a surface in the last frame (the pixels that sample
@@ -116,8 +119,8 @@ private:
     EmbreeScene rays_;
     TriangleEmitters emitters_;
     std::vector<restir::Vpl> vpls_;
-    double photon_ms_ = 0.0;          ///< Time of the last photon shooting.
-    std::uint32_t photon_count_ = 0u; ///< Photons per set, from the pilot pass of the first.
+    double photon_ms_ = 0.0;                       ///< Time of the last photon shooting.
+    std::optional<std::uint32_t> photons_per_set_; ///< From the pilot pass of the first set.
     std::unique_ptr<Impl> impl_;
     Image accumulated_;
     Image frame_image_;

@@ -271,6 +271,28 @@ TEST(Renderer, BoilingFilterOnlyEmptiesReservoirs) {
     EXPECT_GT(darker, 0u);
 }
 
+// The photon budget is bounded: a scene whose surfaces reflect nothing leaves no VPL in the
+// pilot pass and gets no more photons (it used to get a hundred million: seconds to minutes of
+// work for nothing), and otherwise at most 64 photons are shot per VPL asked for.
+TEST(Renderer, PhotonBudgetIsBounded) {
+    const pt::Scene black = furnace(0.0f);
+    pt::RenderSettings s = tiny(black, 8);
+    s.vpls = 100'000;
+    pt::Renderer dark(black, s);
+    EXPECT_EQ(dark.vpl_count(), 0u);
+    EXPECT_EQ(dark.photons_per_set(), 0u);
+    dark.render_frame();
+    for (const glm::vec3& p : dark.accumulated().pixels)
+        EXPECT_TRUE(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
+
+    const pt::Scene box = pt::make_cornell_box();
+    s = tiny(box, 8);
+    const pt::Renderer lit(box, s);
+    EXPECT_GT(lit.vpl_count(), 0u);
+    EXPECT_GT(lit.photons_per_set(), 0u);
+    EXPECT_LE(lit.photons_per_set(), 64u * s.vpls);
+}
+
 TEST(Renderer, SceneWithoutEmittersIsAnError) {
     pt::Scene scene = furnace(0.5f);
     scene.materials[0].emission = glm::vec3(0.0f);
