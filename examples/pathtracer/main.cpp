@@ -30,6 +30,7 @@ struct Options {
     std::string scene = "cornell";
     std::uint32_t lights = 1000;
     std::uint64_t scene_seed = 0;
+    std::uint64_t max_memory_mb = 0;
     std::vector<float> look_from, look_at;
     std::optional<float> fov;
     std::uint32_t frames = 16;
@@ -52,6 +53,28 @@ const CLI::Validator finite_number(
         return std::isfinite(value) ? std::string{} : "'" + text + "' is not a finite number";
     },
     "", "finite");
+
+// Refuses a render whose estimated memory (pt::estimated_memory_bytes) exceeds `limit_mb`, or
+// without a limit three quarters of the physical memory, before any work starts.
+void check_memory(const pt::RenderSettings& settings, bool with_reference, std::uint64_t limit_mb) {
+    std::uint64_t limit = limit_mb << 20u;
+    if (limit == 0u) {
+        const long pages = sysconf(_SC_PHYS_PAGES);
+        const long page_size = sysconf(_SC_PAGE_SIZE);
+        if (pages <= 0 || page_size <= 0)
+            return; // unknown: no limit
+        limit = static_cast<std::uint64_t>(pages) / 4u * 3u * static_cast<std::uint64_t>(page_size);
+    }
+    const std::uint64_t needed = pt::estimated_memory_bytes(settings, with_reference);
+    if (needed > limit)
+        fail("this render needs about " + std::to_string(needed >> 20u) + " MB (" +
+             std::to_string(settings.width) + "x" + std::to_string(settings.height) +
+             (settings.gi == pt::GlobalIllumination::vpl
+                  ? ", " + std::to_string(settings.vpls) + " VPLs"
+                  : std::string{}) +
+             "), more than the limit of " + std::to_string(limit >> 20u) +
+             " MB: make the image or --vpls smaller, or raise --max-memory");
+}
 
 void progress(std::uint32_t done, std::uint32_t total, double frame_ms) {
     constexpr std::size_t width = 30;
@@ -165,6 +188,9 @@ int main(int argc, char** argv) {
                    "pixel centres and the RMSE measures lighting noise only");
     app.add_option("--seed", settings.seed, "Seed of every random number");
     app.add_option("--threads", settings.threads, "Worker threads (0: all cores)");
+    app.add_option("--max-memory", options.max_memory_mb,
+                   "Refuse renders whose estimated memory exceeds this many MB (0: three "
+                   "quarters of the machine's physical memory)");
     app.add_option("--out", options.outs,
                    "Output image(s): .png (tone-mapped), .exr or .pfm (linear); repeat the flag "
                    "for several")
@@ -238,6 +264,7 @@ int main(int argc, char** argv) {
 
     pt::parse_command_line(app, argc, argv, "restir-render");
     settings.vpl_seed = vpl_seed.value_or(settings.seed);
+    check_memory(settings, !options.reference.empty(), options.max_memory_mb);
     for (const auto& [name, values] :
          {std::pair{"--look-from", &options.look_from}, std::pair{"--look-at", &options.look_at}})
         if (!values->empty() && values->size() != 3)

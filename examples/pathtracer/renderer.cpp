@@ -536,6 +536,14 @@ struct Renderer::Impl {
     }
 };
 
+std::uint64_t estimated_memory_bytes(const RenderSettings& settings, bool with_reference) {
+    const std::uint64_t pixels = std::uint64_t{settings.width} * settings.height;
+    const std::uint64_t per_pixel =
+        (settings.method == Method::restir ? 384u : 192u) + (with_reference ? 48u : 0u);
+    const std::uint64_t vpls = settings.gi == GlobalIllumination::vpl ? settings.vpls : 0u;
+    return (32u << 20u) + pixels * per_pixel + vpls * 96u;
+}
+
 Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
     : scene_(scene), settings_(settings), rays_(scene), emitters_(scene),
       accumulated_(settings.width, settings.height), frame_image_(settings.width, settings.height),

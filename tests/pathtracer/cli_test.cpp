@@ -1,5 +1,7 @@
 // restir-render's command line: bad input gives one line on stderr and exit status 2, never a
 // crash; good input writes the image and the CSV.
+#include "renderer.hpp"
+
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -95,7 +97,8 @@ TEST(Cli, HelpDocumentsEveryFlagWithItsDefault) {
                              "--vpl-seed",
                              "--permutation-sampling",
                              "--boiling-filter",
-                             "--scene-seed"})
+                             "--scene-seed",
+                             "--max-memory"})
         EXPECT_NE(r.out.find(flag), std::string::npos) << flag;
     EXPECT_NE(r.out.find("restir"), std::string::npos);
 }
@@ -136,6 +139,19 @@ TEST(Cli, DegenerateCamerasAndNonFiniteNumbersAreOneLineErrors) {
     const fs::path obj = scratch_dir() / "huge.obj";
     std::ofstream(obj) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1e19 0 0\nf 1 4 3\nf 1 2 3\n";
     expect_one_line_error(small("--scene " + obj.string()), "1e15");
+}
+
+// A render that would not fit the memory limit is refused before any work, naming its
+// estimate (16384 x 16384 used to be accepted and killed by the kernel at about 70 GB).
+TEST(Cli, RendersBeyondTheMemoryLimitAreRefused) {
+    expect_one_line_error("--width 4096 --height 4096 --max-memory 1000 --out x.png",
+                          "needs about");
+    expect_one_line_error(small("--vpls 100000000 --max-memory 1000"), "VPLs");
+    EXPECT_EQ(run(small("--max-memory 1000")).status, 0);
+    pt::RenderSettings huge;
+    huge.width = 16384;
+    huge.height = 16384;
+    EXPECT_GT(pt::estimated_memory_bytes(huge, false), std::uint64_t{64} << 30u);
 }
 
 // Looking straight down the up axis used to give the camera no right vector (NaN rays).
