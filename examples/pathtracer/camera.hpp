@@ -15,12 +15,8 @@
 
 namespace pt {
 
-/// Largest camera coordinate accepted: Embree rejects rays whose origin lies beyond about
-/// 1.8e18, and the image needs room around the camera.
-inline constexpr float max_camera_coordinate = 1e15f;
-
 /// Throws SceneError, naming the problem, when `setup` cannot form rays: a position or target
-/// that is not finite or beyond max_camera_coordinate, the two (nearly) the same point, a zero
+/// that is not finite or beyond max_coordinate, the two (nearly) the same point, a zero
 /// or non-finite up vector, or a field of view outside (0, 180) degrees.
 inline void check_camera(const CameraSetup& setup) {
     const auto finite = [](glm::vec3 v) {
@@ -28,8 +24,7 @@ inline void check_camera(const CameraSetup& setup) {
     };
     const auto in_range = [](glm::vec3 v) {
         const glm::vec3 a = glm::abs(v);
-        return a.x <= max_camera_coordinate && a.y <= max_camera_coordinate &&
-               a.z <= max_camera_coordinate;
+        return a.x <= max_coordinate && a.y <= max_coordinate && a.z <= max_coordinate;
     };
     if (!finite(setup.look_from) || !finite(setup.look_at))
         throw SceneError("the camera position and target must be finite numbers");

@@ -357,6 +357,11 @@ Scene load_obj(const std::filesystem::path& path) {
                 !std::isfinite(position.z)) {
                 throw fail("vertex " + std::to_string(source + 1) + " is not finite");
             }
+            if (std::abs(position.x) > max_coordinate || std::abs(position.y) > max_coordinate ||
+                std::abs(position.z) > max_coordinate) {
+                throw fail("vertex " + std::to_string(source + 1) +
+                           " lies beyond 1e15 of the origin");
+            }
             if (scene.positions.size() >= unused) {
                 throw fail("too many vertices");
             }

@@ -24,6 +24,10 @@ struct Material {
 };
 
 /// Where the camera looks from, at, and its vertical field of view.
+/// Largest coordinate a scene vertex or the camera may have: Embree takes no ray origin or
+/// vertex beyond about 1.8e18, and rays need room around them.
+inline constexpr float max_coordinate = 1e15f;
+
 struct CameraSetup {
     glm::vec3 look_from{0.0f, 0.0f, 1.0f};
     glm::vec3 look_at{0.0f};

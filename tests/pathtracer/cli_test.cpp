@@ -135,7 +135,8 @@ TEST(Cli, DegenerateCamerasAndNonFiniteNumbersAreOneLineErrors) {
             expect_one_line_error(small(std::string(flag) + " " + value), flag);
     expect_one_line_error(small("--look-from nan,0,0"), "--look-from");
     expect_one_line_error(small("--look-at 0,inf,0"), "--look-at");
-    // An OBJ whose automatic framing puts the camera beyond the range Embree accepts.
+    // An OBJ with a vertex beyond the range Embree accepts (its automatic framing used to put
+    // the camera out there and crash).
     const fs::path obj = scratch_dir() / "huge.obj";
     std::ofstream(obj) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1e19 0 0\nf 1 4 3\nf 1 2 3\n";
     expect_one_line_error(small("--scene " + obj.string()), "1e15");
