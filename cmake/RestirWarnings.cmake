@@ -18,8 +18,11 @@ if(RESTIR_NATIVE_ARCH)
   endif()
 endif()
 if(RESTIR_SANITIZE)
-  target_compile_options(restir_project_options INTERFACE -fsanitize=address,undefined
-                                                          -fno-sanitize-recover=all
-                                                          -fno-omit-frame-pointer)
-  target_link_options(restir_project_options INTERFACE -fsanitize=address,undefined)
+  # float-cast-overflow: a float converted to an integer that cannot hold it (NaN, huge) is
+  # undefined behaviour, and GCC's -fsanitize=undefined leaves that check out.
+  target_compile_options(restir_project_options INTERFACE
+                         -fsanitize=address,undefined,float-cast-overflow
+                         -fno-sanitize-recover=all -fno-omit-frame-pointer)
+  target_link_options(restir_project_options INTERFACE
+                      -fsanitize=address,undefined,float-cast-overflow)
 endif()

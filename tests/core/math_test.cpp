@@ -29,6 +29,19 @@ TEST(Math, SafeDivideNeverReturnsNonFinite) {
     EXPECT_EQ(restir::safe_divide(nan, 1.0f), 0.0f);
 }
 
+// Any float, even one outside [0, 1) or NaN, gives an index in range without converting an
+// out-of-range float to an integer (undefined behaviour, caught by the sanitised build).
+TEST(Math, UniformIndexTakesAnyFloat) {
+    for (float u : {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(),
+                    -std::numeric_limits<float>::infinity(), -1.0f, -0.0f, 1.0f, 2.5f, 1e30f,
+                    -1e30f, std::numeric_limits<float>::denorm_min()})
+        for (std::uint32_t count : {1u, 7u, 1u << 31u, 0xffffffffu})
+            EXPECT_LT(restir::uniform_index(u, count), count) << u << " " << count;
+    EXPECT_EQ(restir::uniform_index(std::numeric_limits<float>::quiet_NaN(), 10u), 0u);
+    EXPECT_EQ(restir::uniform_index(-5.0f, 10u), 0u);
+    EXPECT_EQ(restir::uniform_index(5.0f, 10u), 9u);
+}
+
 TEST(Math, UniformIndexStaysInRange) {
     EXPECT_EQ(restir::uniform_index(0.0f, 10u), 0u);
     EXPECT_EQ(restir::uniform_index(0.999f, 10u), 9u);

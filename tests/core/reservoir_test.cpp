@@ -31,6 +31,33 @@ std::vector<double> normalized(const std::vector<float>& weights) {
     return pmf;
 }
 
+// Hostile inputs: a negative or NaN target never gives a negative or NaN W, and M saturates
+// instead of wrapping around (1 + 3e9 + 3e9 used to give 1,705,032,705).
+TEST(Reservoir, BadTargetsAndHugeCountsStaySane) {
+    const float not_a_number = std::numeric_limits<float>::quiet_NaN();
+    for (float target : {-1.0f, not_a_number, std::numeric_limits<float>::infinity()}) {
+        restir::Reservoir<std::uint32_t> r;
+        EXPECT_TRUE(r.stream(1u, 1.0f, target, 0.0f));
+        r.finalize();
+        EXPECT_TRUE(r.is_well_formed()) << target;
+        EXPECT_EQ(r.contribution_weight, 0.0f) << target;
+        EXPECT_FALSE(r.has_sample()) << target;
+        restir::Reservoir<std::uint32_t> merged;
+        // A good reservoir merged with a bad target at the receiver stays well formed.
+        restir::Reservoir<std::uint32_t> good;
+        good.stream(2u, 1.0f, 1.0f, 0.0f);
+        good.finalize();
+        merged.merge_with_mis(good, target, 1.0f, 0.0f);
+        merged.finalize_normalized();
+        EXPECT_TRUE(merged.is_well_formed()) << target;
+    }
+    restir::Reservoir<std::uint32_t> r;
+    r.stream(1u, 1.0f, 1.0f, 0.0f);
+    r.stream_group(2u, 1.0f, 1.0f, 3'000'000'000u, 0.5f);
+    r.stream_group(3u, 1.0f, 1.0f, 3'000'000'000u, 0.5f);
+    EXPECT_EQ(r.candidate_count, 0xffffffffu);
+}
+
 TEST(Reservoir, IsTriviallyCopyable) {
     static_assert(std::is_trivially_copyable_v<Reservoir>);
     static_assert(std::is_trivially_copyable_v<restir::Reservoir<float>>);

@@ -217,6 +217,30 @@ TEST(TemporalReuse, PermutationBitsSetTheBlockSize) {
     EXPECT_GE(offsets_seen.size(), 12u);
 }
 
+// A radius that no int offset can hold (or NaN) is clamped, not converted with undefined
+// behaviour (caught by the sanitised build); the history cap saturates instead of wrapping.
+TEST(SpatialReuse, HugeOrNanRadiusIsClamped) {
+    const restir::NeighborOffsets offsets = restir::make_neighbor_offsets();
+    for (float radius : {1e10f, std::numeric_limits<float>::infinity(),
+                         std::numeric_limits<float>::quiet_NaN(), -5.0f})
+        for (std::uint32_t i = 0; i < 8u; ++i) {
+            const PixelCoord n = restir::spatial_neighbour({3, 4}, 5u, i, radius, offsets,
+                                                           restir::neighbour_rotation(0.3f));
+            EXPECT_LE(std::abs(static_cast<double>(n.x)), 16777216.0 + 4.0) << radius;
+            EXPECT_LE(std::abs(static_cast<double>(n.y)), 16777216.0 + 5.0) << radius;
+            if (!(radius > 0.0f)) {
+                EXPECT_EQ(n.x, 3);
+                EXPECT_EQ(n.y, 4);
+            }
+        }
+    restir::TemporalParams params = restir::default_temporal_params();
+    params.history_cap_multiplier = 3'000'000'000u;
+    Reservoir<LightId> history;
+    history.candidate_count = 4'000'000'000u;
+    history.weight_sum = 1.0f;
+    EXPECT_EQ(restir::capped_history(history, 2u, params).candidate_count, 4'000'000'000u);
+}
+
 // The offset table is rotated by a random angle per pixel: over many pixels the neighbours
 // spread alike along x and y, stay inside the radius (plus rounding), and their mean is 0.
 TEST(SpatialReuse, RotatedNeighboursAreIsotropic) {

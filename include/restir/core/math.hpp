@@ -42,9 +42,16 @@ RESTIR_HOST_DEVICE constexpr T max_of(T a, T b) noexcept {
     return a < b ? b : a;
 }
 
-/// Index in [0, count) from a uniform number u in [0, 1); robust to u rounding up to 1.
+/// Index in [0, count) from a uniform number u in [0, 1) (count > 0); robust to u rounding up
+/// to 1, and defined for any float: u <= 0 or NaN gives 0, u >= 1 gives count - 1.
 RESTIR_HOST_DEVICE constexpr std::uint32_t uniform_index(float u, std::uint32_t count) noexcept {
-    const auto i = static_cast<std::uint32_t>(u * static_cast<float>(count));
+    const float scaled = u * static_cast<float>(count);
+    if (!(scaled > 0.0f))
+        return 0u;
+    // Compared in float: count - 1 itself may round up to 2^32, which no uint32 holds.
+    if (!(scaled < static_cast<float>(count)) || !(scaled < 4294967040.0f))
+        return count - 1u;
+    const auto i = static_cast<std::uint32_t>(scaled);
     return i < count ? i : count - 1u;
 }
 

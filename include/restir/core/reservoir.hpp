@@ -40,7 +40,7 @@ struct Reservoir {
         if (!add_weight(weight, u, 1u))
             return false;
         sample = candidate;
-        target_value = target;
+        target_value = is_valid_weight(target) ? target : 0.0f; // W = 0 for a bad target
         return true;
     }
 
@@ -55,7 +55,7 @@ struct Reservoir {
         // Selects instead of a branch: whether a group wins is random.
         const bool take = add_weight(weight, u, count);
         sample = take ? candidate : sample;
-        target_value = take ? target : target_value;
+        target_value = take ? (is_valid_weight(target) ? target : 0.0f) : target_value;
         return take;
     }
 
@@ -67,7 +67,7 @@ struct Reservoir {
         if (!add_weight(weight, u, 1u))
             return false;
         sample = make_sample();
-        target_value = target;
+        target_value = is_valid_weight(target) ? target : 0.0f;
         return true;
     }
 
@@ -156,7 +156,8 @@ private:
     // candidates, and says whether the new candidate replaces the current one.
     RESTIR_HOST_DEVICE constexpr bool add_weight(float weight, float u,
                                                  std::uint32_t count) noexcept {
-        candidate_count += count;
+        // M saturates instead of wrapping around.
+        candidate_count += min_of(count, 0xffffffffu - candidate_count);
         // Invalid weights become 0 without a branch: a zero weight is never selected, since
         // u * w_sum < 0 is false for u >= 0.
         const float accepted = is_valid_weight(weight) ? weight : 0.0f;
@@ -175,7 +176,7 @@ private:
         if (!add_weight(weight, u, other.candidate_count))
             return false;
         sample = other.sample;
-        target_value = target_at_receiver;
+        target_value = is_valid_weight(target_at_receiver) ? target_at_receiver : 0.0f;
         return true;
     }
 };

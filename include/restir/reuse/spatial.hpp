@@ -38,15 +38,19 @@ RESTIR_HOST_DEVICE constexpr SpatialParams default_spatial_params() noexcept { r
 /// Neighbour `i` (0 <= i < k) of `pixel` for a pass that drew `start` (its first uniform
 /// number, as `uniform_index(u, neighbor_offset_count)`) and `rotation` (cos and sin of an
 /// angle from its second, `neighbour_rotation`): offset `start + i` of `offsets` rotated,
-/// scaled by the radius and rounded to the nearest pixel. For renderers that fetch the
+/// scaled by the radius (clamped to [0, 2^24]; NaN counts as 0) and rounded to the nearest
+/// pixel. For renderers that fetch the
 /// neighbours' data ahead of the pass (prefetching, packets of rays).
 RESTIR_HOST_DEVICE constexpr PixelCoord spatial_neighbour(PixelCoord pixel, std::uint32_t start,
                                                           std::uint32_t i, float radius,
                                                           const NeighborOffsets& offsets,
                                                           DiskOffset rotation = {1.0f, 0.0f}) {
+    // A radius beyond 2^24 pixels (or NaN, or negative) is clamped, so the offset always fits
+    // an int.
+    const float r = radius > 0.0f ? min_of(radius, 16777216.0f) : 0.0f;
     const DiskOffset table = offsets[start + i];
-    const float x = (rotation.x * table.x - rotation.y * table.y) * radius;
-    const float y = (rotation.y * table.x + rotation.x * table.y) * radius;
+    const float x = (rotation.x * table.x - rotation.y * table.y) * r;
+    const float y = (rotation.y * table.x + rotation.x * table.y) * r;
     return {pixel.x + static_cast<std::int32_t>(x + (x < 0.0f ? -0.5f : 0.5f)),
             pixel.y + static_cast<std::int32_t>(y + (y < 0.0f ? -0.5f : 0.5f))};
 }

@@ -73,8 +73,12 @@ template <class Sample>
 RESTIR_HOST_DEVICE constexpr Reservoir<Sample> capped_history(Reservoir<Sample> history,
                                                               std::uint32_t current_count,
                                                               const TemporalParams& params) {
-    if (params.history_cap_multiplier > 0u)
-        history.cap_candidate_count(params.history_cap_multiplier * current_count);
+    if (params.history_cap_multiplier > 0u) {
+        // multiplier * M, saturating instead of wrapping around to a small cap.
+        const std::uint64_t cap = std::uint64_t{params.history_cap_multiplier} * current_count;
+        history.cap_candidate_count(
+            static_cast<std::uint32_t>(cap < 0xffffffffull ? cap : 0xffffffffull));
+    }
     return history;
 }
 
