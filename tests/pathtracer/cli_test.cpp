@@ -1,5 +1,6 @@
 // restir-render's command line: bad input gives one line on stderr and exit status 2, never a
 // crash; good input writes the image and the CSV.
+#include "image_io.hpp"
 #include "renderer.hpp"
 
 #include <gtest/gtest.h>
@@ -10,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -153,6 +155,16 @@ TEST(Cli, RendersBeyondTheMemoryLimitAreRefused) {
     huge.width = 16384;
     huge.height = 16384;
     EXPECT_GT(pt::estimated_memory_bytes(huge, false), std::uint64_t{64} << 30u);
+}
+
+// A reference with NaN or infinite pixels used to give an RMSE of nan every frame.
+TEST(Cli, NonFiniteReferenceIsAnError) {
+    const fs::path reference = scratch_dir() / "nan.pfm";
+    pt::Image image(8, 8);
+    image.at(3, 4) = glm::vec3(std::numeric_limits<float>::quiet_NaN(), 0.0f, 0.0f);
+    image.at(5, 1) = glm::vec3(std::numeric_limits<float>::infinity());
+    pt::write_image(reference, image);
+    expect_one_line_error(small("--reference " + reference.string()), "2 pixel(s)");
 }
 
 // Looking straight down the up axis used to give the camera no right vector (NaN rays).
