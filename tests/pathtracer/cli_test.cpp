@@ -157,6 +157,16 @@ TEST(Cli, RendersBeyondTheMemoryLimitAreRefused) {
     EXPECT_GT(pt::estimated_memory_bytes(huge, false), std::uint64_t{64} << 30u);
 }
 
+// An emitter whose power overflows a float used to be reported as "all weights are zero".
+TEST(Cli, TooBrightEmitterIsNamed) {
+    const fs::path dir = scratch_dir();
+    std::ofstream(dir / "hot.mtl") << "newmtl hot\nKd 0.5 0.5 0.5\nKe 3e38 3e38 3e38\n";
+    std::ofstream(dir / "hot.obj") << "mtllib hot.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+                                      "usemtl hot\nf 1 2 3\nf 1 3 4\n";
+    expect_one_line_error(small("--scene " + (dir / "hot.obj").string()), "too bright");
+    // (it names the emitter and the cause)
+}
+
 // A reference with NaN or infinite pixels used to give an RMSE of nan every frame.
 TEST(Cli, NonFiniteReferenceIsAnError) {
     const fs::path reference = scratch_dir() / "nan.pfm";
