@@ -212,6 +212,12 @@ TEST(TemporalReuse, PermutationBitsSetTheBlockSize) {
             }
         EXPECT_EQ(images.size(), 64u) << "frame " << frame << " is not a bijection";
     }
+    // More bits than a coordinate can shift are clamped (15), not undefined behaviour.
+    params.permutation_bits = 40u;
+    const PixelCoord far = restir::history_pixel({70000, 5}, params);
+    EXPECT_EQ(far.x >> 15, 70000 >> 15);
+    EXPECT_EQ(far.y >> 15, 0);
+    params.permutation_bits = 2u;
     // Each block draws its pattern per frame: 64 frames miss a given one of the 16 patterns
     // with probability (15/16)^64 < 0.02, so most appear.
     EXPECT_GE(offsets_seen.size(), 12u);

@@ -7,6 +7,7 @@
 
 #include "restir/concepts.hpp"
 #include "restir/config.hpp"
+#include "restir/core/math.hpp"
 #include "restir/core/reservoir.hpp"
 #include "restir/core/rng.hpp"
 #include "restir/reuse/bias_correction.hpp"
@@ -57,7 +58,7 @@ RESTIR_HOST_DEVICE constexpr PixelCoord history_pixel(PixelCoord reprojected,
     // A pattern per frame and per block, so that over the image the history moves along x as
     // often as along y (one pattern for the whole frame left the error of 20 accumulated frames
     // correlated more along one axis, as the frames' draws happened to fall).
-    const std::uint32_t bits = params.permutation_bits;
+    const std::uint32_t bits = min_of(params.permutation_bits, 15u); // shifts stay defined
     const std::uint64_t block =
         (std::uint64_t{static_cast<std::uint32_t>(reprojected.x) >> bits} << 32u) |
         (static_cast<std::uint32_t>(reprojected.y) >> bits);
