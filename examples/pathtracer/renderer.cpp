@@ -617,8 +617,9 @@ void Renderer::shoot_vpls(std::uint32_t generation) {
     im.lights = Unified{&emitters_, vpls_.data(), static_cast<std::uint32_t>(vpls_.size())};
     const std::vector<float> powers = restir::unified_light_powers(im.lights);
     // unified_light_powers gives a power that overflows a float as 0; a shining emitter with
-    // power 0 would never be sampled (and alone gives "all weights are zero").
-    for (std::uint32_t e = 0; e < emitters_.light_count(); ++e) {
+    // power 0 would never be sampled (and alone gives "all weights are zero"). Emitters do not
+    // change between VPL sets: checked once.
+    for (std::uint32_t e = 0; generation == 0u && e < emitters_.light_count(); ++e) {
         const glm::vec3 radiance = emitters_.radiance(e);
         if (!(powers[e] > 0.0f) && radiance.x + radiance.y + radiance.z > 0.0f)
             throw SceneError("emitter " + std::to_string(e) + " of scene '" + scene_.name +
