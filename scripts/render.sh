@@ -6,7 +6,7 @@ set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
 bash scripts/install-deps.sh cmake make g++ libglm-dev libstb-dev libembree-dev libtbb-dev \
-  libtinyobjloader-dev libtinyexr-dev libcli11-dev
+  libtinyobjloader-dev libopenexr-dev libcli11-dev
 
 cmake -S . -B build/render -DCMAKE_BUILD_TYPE=Release -DRESTIR_BUILD_TESTS=OFF \
   -DRESTIR_BUILD_BENCHMARKS=OFF >/dev/null

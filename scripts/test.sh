@@ -6,7 +6,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 bash scripts/install-deps.sh cmake make g++ clang libglm-dev libgtest-dev libgmock-dev \
-  libbenchmark-dev libstb-dev libembree-dev libtbb-dev libtinyobjloader-dev libtinyexr-dev \
+  libbenchmark-dev libstb-dev libembree-dev libtbb-dev libtinyobjloader-dev libopenexr-dev \
   libcli11-dev
 
 jobs=$(nproc)

@@ -1,6 +1,12 @@
 #include "image_io.hpp"
 
-#include <tinyexr.h>
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfIO.h>
+#include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/openexr.h>
 
 #pragma GCC diagnostic push
 #if defined(__clang__)
@@ -19,6 +25,7 @@
 #pragma GCC diagnostic pop
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cctype>
 #include <cerrno>
@@ -29,6 +36,7 @@
 #include <cstring>
 #include <limits>
 #include <memory>
+#include <span>
 #include <string>
 #include <string_view>
 #include <system_error>
@@ -67,6 +75,17 @@ std::string one_line(std::string_view text) {
 }
 
 std::string errno_message(int error) { return std::generic_category().message(error); }
+
+bool is_space(char c) { return c == ' ' || c == '\n' || c == '\r' || c == '\t'; }
+
+// A header token as shown in a message: printable and short.
+std::string shown(std::string_view token) {
+    std::string text;
+    for (char c : token.substr(0, 32)) {
+        text += std::isprint(static_cast<unsigned char>(c)) != 0 ? c : '?';
+    }
+    return token.size() > 32 ? text + "..." : text;
+}
 
 Format format_of(const std::filesystem::path& path, std::string_view supported) {
     const std::string extension = lowercase(path.extension().string());
@@ -140,94 +159,216 @@ void write_file(const std::filesystem::path& path, const void* data, std::size_t
 
 // ---- OpenEXR ----
 
-struct ExrMessage {
-    const char* text = nullptr;
-    ExrMessage() = default;
-    ExrMessage(const ExrMessage&) = delete;
-    ExrMessage& operator=(const ExrMessage&) = delete;
-    ~ExrMessage() {
-        if (text != nullptr) {
-            FreeEXRErrorMessage(text);
-        }
+// Bytes held in memory, as OpenEXR's C++ API reads a file.
+class MemoryStream final : public Imf::IStream {
+public:
+    MemoryStream(std::span<const char> bytes, const std::string& file_name)
+        : Imf::IStream(file_name.c_str()), bytes_(bytes) {}
+
+    bool read(char c[], int n) override {
+        if (n < 0 || static_cast<std::uint64_t>(n) > bytes_.size() - at_)
+            throw Iex::InputExc("unexpected end of file");
+        std::memcpy(c, bytes_.data() + at_, static_cast<std::size_t>(n));
+        at_ += static_cast<std::uint64_t>(n);
+        return at_ < bytes_.size();
     }
-    std::string str(int code) const {
-        return text != nullptr ? one_line(text) : "tinyexr error " + std::to_string(code);
+    std::uint64_t tellg() override { return at_; }
+    void seekg(std::uint64_t position) override {
+        if (position > bytes_.size())
+            throw Iex::InputExc("seek past the end of file");
+        at_ = position;
     }
+
+private:
+    std::span<const char> bytes_;
+    std::uint64_t at_ = 0;
 };
 
-struct FreeDeleter {
-    void operator()(void* p) const { std::free(p); }
+// The header facts checked before OpenEXR's C++ reader allocates anything, read with its core
+// library (built to validate untrusted headers): one flat part, its data window, its chunks.
+struct ExrLayout {
+    std::uint64_t width = 0;
+    std::uint64_t height = 0;
 };
 
-void write_exr(const std::filesystem::path& path, const Image& image) {
-    const std::size_t count = image.pixels.size();
-    // Planar channels in the order B, G, R, which is how OpenEXR readers expect them.
-    std::vector<float> planes[3];
-    for (auto& plane : planes) {
-        plane.resize(count);
-    }
-    for (std::size_t i = 0; i < count; ++i) {
-        planes[0][i] = image.pixels[i].b;
-        planes[1][i] = image.pixels[i].g;
-        planes[2][i] = image.pixels[i].r;
-    }
-    float* plane_pointers[3] = {planes[0].data(), planes[1].data(), planes[2].data()};
+struct ExrBytes {
+    std::span<const char> bytes;
+    std::string message; // the core library's last error message
+};
 
-    EXRImage exr_image;
-    InitEXRImage(&exr_image);
-    exr_image.num_channels = 3;
-    exr_image.images = reinterpret_cast<unsigned char**>(plane_pointers);
-    exr_image.width = static_cast<int>(image.width);
-    exr_image.height = static_cast<int>(image.height);
-
-    EXRChannelInfo channels[3]{};
-    const char channel_names[3] = {'B', 'G', 'R'};
-    for (int c = 0; c < 3; ++c) {
-        channels[c].name[0] = channel_names[c];
-        channels[c].name[1] = '\0';
-    }
-    int pixel_types[3] = {TINYEXR_PIXELTYPE_FLOAT, TINYEXR_PIXELTYPE_FLOAT,
-                          TINYEXR_PIXELTYPE_FLOAT};
-    int requested_pixel_types[3] = {TINYEXR_PIXELTYPE_FLOAT, TINYEXR_PIXELTYPE_FLOAT,
-                                    TINYEXR_PIXELTYPE_FLOAT};
-
-    EXRHeader header;
-    InitEXRHeader(&header);
-    header.num_channels = 3;
-    header.channels = channels;
-    header.pixel_types = pixel_types;
-    header.requested_pixel_types = requested_pixel_types;
-    header.compression_type = TINYEXR_COMPRESSIONTYPE_ZIP;
-
-    ExrMessage message;
-    unsigned char* memory = nullptr;
-    const std::size_t size = SaveEXRImageToMemory(&exr_image, &header, &memory, &message.text);
-    const std::unique_ptr<unsigned char, FreeDeleter> owner(memory);
-    if (size == 0 || memory == nullptr) {
-        throw ImageError("cannot write " + name(path) + ": " + message.str(0));
-    }
-    write_file(path, memory, size);
+std::int64_t exr_read(exr_const_context_t context, void* user, void* buffer, std::uint64_t size,
+                      std::uint64_t offset, exr_stream_error_func_ptr_t) {
+    (void)context;
+    const std::span<const char> bytes = static_cast<ExrBytes*>(user)->bytes;
+    if (offset >= bytes.size())
+        return 0;
+    const std::uint64_t count = std::min<std::uint64_t>(size, bytes.size() - offset);
+    std::memcpy(buffer, bytes.data() + offset, static_cast<std::size_t>(count));
+    return static_cast<std::int64_t>(count);
 }
 
-Image read_exr(const std::filesystem::path& path) {
-    float* rgba = nullptr;
-    int width = 0;
-    int height = 0;
-    ExrMessage message;
-    const std::string file = path.string();
-    const int result = LoadEXR(&rgba, &width, &height, file.c_str(), &message.text);
-    const std::unique_ptr<float, FreeDeleter> owner(rgba);
-    if (result != TINYEXR_SUCCESS) {
-        throw ImageError("cannot read " + name(path) + " as OpenEXR: " + message.str(result));
+std::int64_t exr_size(exr_const_context_t, void* user) {
+    return static_cast<std::int64_t>(static_cast<ExrBytes*>(user)->bytes.size());
+}
+
+void exr_error(exr_const_context_t context, exr_result_t, const char* message) {
+    void* user = nullptr;
+    if (exr_get_user_data(context, &user) == EXR_ERR_SUCCESS && user != nullptr && message)
+        static_cast<ExrBytes*>(user)->message = message;
+}
+
+// Largest width or height either OpenEXR reader accepts; the pixel count is limited separately.
+constexpr int exr_max_side = 1 << 20;
+// Largest decoded chunk (a block of scanlines or a tile, all channels) read.
+constexpr std::uint64_t max_exr_chunk_bytes = std::uint64_t{64} << 20;
+
+ExrLayout check_exr_header(std::span<const char> bytes, const ReadLimits& limits,
+                           const std::string& file) {
+    const auto fail = [&](const std::string& why) -> void {
+        throw ImageError("cannot read " + file + " as OpenEXR: " + why);
+    };
+    ExrBytes source{bytes, {}};
+    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    init.error_handler_fn = exr_error;
+    init.user_data = &source;
+    init.read_fn = exr_read;
+    init.size_fn = exr_size;
+    init.max_image_width = exr_max_side;
+    init.max_image_height = exr_max_side;
+    init.max_tile_width = exr_max_side;
+    init.max_tile_height = exr_max_side;
+    init.flags = EXR_CONTEXT_FLAG_STRICT_HEADER | EXR_CONTEXT_FLAG_DISABLE_CHUNK_RECONSTRUCTION;
+    exr_context_t context = nullptr;
+    const exr_result_t opened = exr_start_read(&context, file.c_str(), &init);
+    struct Finish {
+        exr_context_t* context;
+        ~Finish() {
+            if (*context != nullptr)
+                exr_finish(context);
+        }
+    } finish{&context};
+    const auto check = [&](exr_result_t result) {
+        if (result != EXR_ERR_SUCCESS)
+            fail(one_line(source.message.empty() ? exr_get_default_error_message(result)
+                                                 : source.message));
+    };
+    check(opened);
+
+    int parts = 0;
+    check(exr_get_count(context, &parts));
+    if (parts != 1)
+        fail("it has " + std::to_string(parts) + " parts; only single-part files are read");
+    exr_storage_t storage = EXR_STORAGE_LAST_TYPE;
+    check(exr_get_storage(context, 0, &storage));
+    if (storage != EXR_STORAGE_SCANLINE && storage != EXR_STORAGE_TILED)
+        fail("deep images are not read");
+
+    exr_attr_box2i_t window{};
+    check(exr_get_data_window(context, 0, &window));
+    ExrLayout layout;
+    if (window.max.x >= window.min.x && window.max.y >= window.min.y) {
+        layout.width = static_cast<std::uint64_t>(std::int64_t{window.max.x} - window.min.x + 1);
+        layout.height = static_cast<std::uint64_t>(std::int64_t{window.max.y} - window.min.y + 1);
     }
-    if (width <= 0 || height <= 0 || rgba == nullptr) {
-        throw ImageError("cannot read " + name(path) + " as OpenEXR: the image is empty");
+    if (layout.width == 0 || layout.height == 0)
+        fail("the data window is empty");
+    if (layout.width * layout.height > limits.max_pixels)
+        fail("it is " + std::to_string(layout.width) + "x" + std::to_string(layout.height) +
+             ", more than the " + std::to_string(limits.max_pixels) + " pixels allowed");
+
+    // The reader holds one chunk decoded (and one compressed) beside the image: a file whose
+    // chunks are larger than any sensible image needs (many channels, very wide lines) is
+    // refused before they are allocated.
+    std::uint64_t chunk_bytes = 0;
+    check(exr_get_chunk_unpacked_size(context, 0, &chunk_bytes));
+    if (chunk_bytes > max_exr_chunk_bytes)
+        fail("its chunks decode to " + std::to_string(chunk_bytes) + " bytes, more than the " +
+             std::to_string(max_exr_chunk_bytes) + " allowed");
+
+    // Every chunk needs an 8-byte offset and a chunk header of at least 8 bytes: a file too
+    // short for its chunk table is cut short, whatever its compression.
+    std::int32_t chunks = 0;
+    check(exr_get_chunk_count(context, 0, &chunks));
+    if (chunks <= 0 || std::uint64_t(chunks) * 16u > bytes.size())
+        fail("the file is too short for its " + std::to_string(chunks) + " chunks");
+    return layout;
+}
+
+// The channels read, in the order R, G, B; a luminance-only image reads Y into all three.
+std::array<const char*, 3> exr_channels(const Imf::ChannelList& channels, const std::string& file) {
+    if (channels.findChannel("R") && channels.findChannel("G") && channels.findChannel("B"))
+        return {"R", "G", "B"};
+    if (channels.findChannel("Y"))
+        return {"Y", "Y", "Y"};
+    std::string names;
+    for (auto c = channels.begin(); c != channels.end(); ++c)
+        names += (names.empty() ? "" : ", ") + shown(c.name());
+    throw ImageError("cannot read " + file + " as OpenEXR: no R, G, B or Y channel (it has " +
+                     (names.empty() ? std::string("none") : names) + ")");
+}
+
+void write_exr(const std::filesystem::path& path, const Image& image) {
+    const int width = static_cast<int>(image.width);
+    const int height = static_cast<int>(image.height);
+    try {
+        Imf::Header header(width, height);
+        header.compression() = Imf::ZIP_COMPRESSION;
+        for (const char* channel : {"R", "G", "B"})
+            header.channels().insert(channel, Imf::Channel(Imf::FLOAT));
+        // Slices point straight into the interleaved pixels: no copy.
+        auto* base = reinterpret_cast<char*>(const_cast<glm::vec3*>(image.pixels.data()));
+        const std::size_t x_stride = sizeof(glm::vec3);
+        const std::size_t y_stride = x_stride * image.width;
+        Imf::FrameBuffer frame;
+        const char* names[3] = {"R", "G", "B"};
+        for (std::size_t c = 0; c < 3; ++c)
+            frame.insert(names[c],
+                         Imf::Slice(Imf::FLOAT, base + c * sizeof(float), x_stride, y_stride));
+        Imf::OutputFile file(path.string().c_str(), header, 1);
+        file.setFrameBuffer(frame);
+        file.writePixels(height);
+    } catch (const std::exception& e) {
+        throw ImageError("cannot write " + name(path) + ": " + one_line(e.what()));
     }
-    Image image(static_cast<std::uint32_t>(width), static_cast<std::uint32_t>(height));
-    for (std::size_t i = 0; i < image.pixels.size(); ++i) {
-        image.pixels[i] = glm::vec3(rgba[4 * i + 0], rgba[4 * i + 1], rgba[4 * i + 2]);
+}
+
+Image read_exr(std::span<const char> bytes, const std::string& file, const ReadLimits& limits) {
+    static const bool configured = [] {
+        Imf::Header::setMaxImageSize(exr_max_side, exr_max_side);
+        Imf::Header::setMaxTileSize(exr_max_side, exr_max_side);
+        return true;
+    }();
+    (void)configured;
+    const ExrLayout layout = check_exr_header(bytes, limits, file);
+    try {
+        MemoryStream stream(bytes, file);
+        Imf::InputFile input(stream, 1);
+        const Imath::Box2i window = input.header().dataWindow();
+        const auto width = static_cast<std::uint64_t>(window.max.x - window.min.x + 1);
+        const auto height = static_cast<std::uint64_t>(window.max.y - window.min.y + 1);
+        if (width != layout.width || height != layout.height)
+            throw ImageError("cannot read " + file + " as OpenEXR: inconsistent data window");
+        const std::array<const char*, 3> names = exr_channels(input.header().channels(), file);
+
+        Image image(static_cast<std::uint32_t>(width), static_cast<std::uint32_t>(height));
+        auto* base = reinterpret_cast<char*>(image.pixels.data());
+        Imf::FrameBuffer frame;
+        for (std::size_t c = 0; c < 3; ++c)
+            if (c == 0 || names[c] != names[0]) // Y is read once and copied
+                frame.insert(names[c],
+                             Imf::Slice::Make(Imf::FLOAT, base + c * sizeof(float), window,
+                                              sizeof(glm::vec3), sizeof(glm::vec3) * width));
+        input.setFrameBuffer(frame);
+        input.readPixels(window.min.y, window.max.y);
+        if (names[1] == names[0])
+            for (glm::vec3& p : image.pixels)
+                p = glm::vec3(p.x);
+        return image;
+    } catch (const ImageError&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw ImageError("cannot read " + file + " as OpenEXR: " + one_line(e.what()));
     }
-    return image;
 }
 
 // ---- PFM ----
@@ -273,40 +414,10 @@ void write_pfm(const std::filesystem::path& path, const Image& image) {
     write_file(path, data.data(), data.size());
 }
 
-std::vector<char> read_file(const std::filesystem::path& path) {
-    errno = 0;
-    File file(std::fopen(path.string().c_str(), "rb"));
-    if (!file) {
-        throw ImageError("cannot read " + name(path) + ": " + errno_message(errno));
-    }
-    std::vector<char> data;
-    char buffer[1 << 16];
-    std::size_t got = 0;
-    while ((got = std::fread(buffer, 1, sizeof buffer, file.get())) > 0) {
-        data.insert(data.end(), buffer, buffer + got);
-    }
-    if (std::ferror(file.get()) != 0) {
-        throw ImageError("cannot read " + name(path) + ": " + errno_message(errno));
-    }
-    return data;
-}
-
-bool is_space(char c) { return c == ' ' || c == '\n' || c == '\r' || c == '\t'; }
-
-// A header token as shown in a message: printable and short.
-std::string shown(std::string_view token) {
-    std::string text;
-    for (char c : token.substr(0, 32)) {
-        text += std::isprint(static_cast<unsigned char>(c)) != 0 ? c : '?';
-    }
-    return token.size() > 32 ? text + "..." : text;
-}
-
 // The header tokens of a PFM file: magic, width, height, scale.
 class PfmHeader {
 public:
-    PfmHeader(const std::vector<char>& data, const std::filesystem::path& path)
-        : data_(data), path_(path) {}
+    PfmHeader(std::span<const char> data, const std::string& file) : data_(data), file_(file) {}
 
     std::string_view token(const char* what) {
         while (at_ < data_.size() && is_space(data_[at_])) {
@@ -351,18 +462,17 @@ public:
     std::size_t offset() const { return at_; }
 
     [[noreturn]] void fail(const std::string& why) const {
-        throw ImageError("cannot read " + name(path_) + " as PFM: " + why);
+        throw ImageError("cannot read " + file_ + " as PFM: " + why);
     }
 
 private:
-    const std::vector<char>& data_;
-    const std::filesystem::path& path_;
+    std::span<const char> data_;
+    const std::string& file_;
     std::size_t at_ = 0;
 };
 
-Image read_pfm(const std::filesystem::path& path) {
-    const std::vector<char> data = read_file(path);
-    PfmHeader header(data, path);
+Image read_pfm(std::span<const char> data, const std::string& file, const ReadLimits& limits) {
+    PfmHeader header(data, file);
     const std::string_view magic = header.token("magic");
     if (magic != "PF" && magic != "Pf") {
         header.fail("it does not start with PF or Pf");
@@ -374,7 +484,11 @@ Image read_pfm(const std::filesystem::path& path) {
     const bool little_endian = scale < 0.0f;
     const float factor = std::abs(scale);
 
-    const std::uint64_t needed = std::uint64_t{width} * height * channels * sizeof(float);
+    const std::uint64_t pixels = std::uint64_t{width} * height; // no wrap: both below 2^32
+    if (pixels > limits.max_pixels)
+        header.fail("it is " + std::to_string(width) + "x" + std::to_string(height) +
+                    ", more than the " + std::to_string(limits.max_pixels) + " pixels allowed");
+    const std::uint64_t needed = pixels * channels * sizeof(float);
     const std::uint64_t available = data.size() - header.offset();
     if (available < needed) {
         header.fail("the pixel data is cut short (" + std::to_string(available) + " of " +
@@ -460,12 +574,19 @@ void write_image(const std::filesystem::path& path, const Image& image, float ex
     }
 }
 
-Image read_image(const std::filesystem::path& path) {
+Image decode_image(std::span<const char> bytes, const std::filesystem::path& path,
+                   const ReadLimits& limits) {
     const Format format = format_of(path, ".exr or .pfm");
     if (format == Format::png) {
         throw ImageError("cannot read " + name(path) +
                          ": PNG is not a linear format, use .exr or .pfm");
     }
+    return format == Format::exr ? read_exr(bytes, name(path), limits)
+                                 : read_pfm(bytes, name(path), limits);
+}
+
+Image read_image(const std::filesystem::path& path, const ReadLimits& limits) {
+    format_of(path, ".exr or .pfm");
     std::error_code error;
     const auto status = std::filesystem::status(path, error);
     if (!std::filesystem::exists(status)) {
@@ -474,7 +595,29 @@ Image read_image(const std::filesystem::path& path) {
     if (std::filesystem::is_directory(status)) {
         throw ImageError("cannot read " + name(path) + ": it is a directory");
     }
-    return format == Format::exr ? read_exr(path) : read_pfm(path);
+    errno = 0;
+    File file(std::fopen(path.string().c_str(), "rb"));
+    if (!file) {
+        throw ImageError("cannot read " + name(path) + ": " + errno_message(errno));
+    }
+    // No image of the allowed size needs more than 16 bytes a pixel (uncompressed float RGBA)
+    // and its chunk tables: a larger file is refused before it is read into memory.
+    const std::uint64_t max_bytes = limits.max_pixels * 32u + (std::uint64_t{1} << 20);
+    std::vector<char> data;
+    char buffer[1 << 16];
+    std::size_t got = 0;
+    while ((got = std::fread(buffer, 1, sizeof buffer, file.get())) > 0) {
+        if (data.size() + got > max_bytes) {
+            throw ImageError("cannot read " + name(path) + ": the file is larger than " +
+                             std::to_string(max_bytes) + " bytes, the most an image of " +
+                             std::to_string(limits.max_pixels) + " pixels needs");
+        }
+        data.insert(data.end(), buffer, buffer + got);
+    }
+    if (std::ferror(file.get()) != 0) {
+        throw ImageError("cannot read " + name(path) + ": " + errno_message(errno));
+    }
+    return decode_image(data, path, limits);
 }
 
 float auto_exposure(const Image& image) {

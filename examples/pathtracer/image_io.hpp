@@ -1,11 +1,12 @@
-// Reading and writing images of the example renderer: linear HDR (OpenEXR through tinyexr,
-// PFM) and tone-mapped PNG (stb_image_write).
+// Reading and writing images of the example renderer: linear HDR (OpenEXR, PFM) and tone-mapped PNG
+// (stb_image_write).
 #pragma once
 
 #include <glm/vec3.hpp>
 
 #include <cstdint>
 #include <filesystem>
+#include <span>
 #include <stdexcept>
 #include <vector>
 
@@ -39,9 +40,20 @@ void write_image(const std::filesystem::path& path, const Image& image, float ex
 /// checking outputs before a long render.
 void check_output_format(const std::filesystem::path& path);
 
-/// Reads a linear .exr or .pfm image. Throws ImageError when the file is missing, malformed or
-/// of another format.
-Image read_image(const std::filesystem::path& path);
+/// Bounds on what the readers accept, checked from the header before any pixel is allocated.
+struct ReadLimits {
+    /// Largest width x height read (default 8192 x 4096, 0.4 GB as float RGB).
+    std::uint64_t max_pixels = std::uint64_t{1} << 25;
+};
+
+/// Reads a linear .exr or .pfm image. Throws ImageError when the file is missing, malformed,
+/// of another format, or larger than `limits` allow; files are treated as untrusted.
+Image read_image(const std::filesystem::path& path, const ReadLimits& limits = {});
+
+/// Decodes an .exr or .pfm image held in memory; `path` names the format (by its extension)
+/// and appears in messages. Throws ImageError as `read_image` does.
+Image decode_image(std::span<const char> bytes, const std::filesystem::path& path,
+                   const ReadLimits& limits = {});
 
 /// The exposure (in stops) that maps the image's average luminance to 0.18, the usual
 /// middle grey; 0 for a black image.

@@ -302,7 +302,9 @@ int main(int argc, char** argv) {
 
         std::optional<pt::Image> reference;
         if (!options.reference.empty()) {
-            reference = pt::read_image(options.reference);
+            // It must match the image: nothing larger is read.
+            reference = pt::read_image(options.reference,
+                                       {std::uint64_t{settings.width} * settings.height});
             if (reference->width != settings.width || reference->height != settings.height)
                 fail("the reference " + options.reference + " is " +
                      std::to_string(reference->width) + "x" + std::to_string(reference->height) +
