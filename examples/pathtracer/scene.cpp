@@ -10,11 +10,16 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
+#include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstddef>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <numbers>
+#include <sstream>
 #include <string>
 #include <string_view>
 #include <system_error>
@@ -279,43 +284,149 @@ Scene make_many_lights(std::uint32_t light_count, std::uint64_t seed) {
     return scene;
 }
 
-Scene load_obj(const std::filesystem::path& path) {
-    const std::string file = path.string();
-    const auto fail = [&file](std::string_view reason) {
-        return SceneError("cannot read scene " + file + ": " + one_line(reason));
-    };
+namespace {
 
+// ---- Checks of OBJ and MTL text before tinyobjloader reads it: it reads a number it cannot
+// parse ("nan", "1e400", "x") as 0 and lets face indices overflow an int. ----
+
+using Fail = std::function<SceneError(std::string_view)>;
+
+// The whitespace-separated tokens of one line, up to a '#' comment.
+std::vector<std::string_view> tokens_of(std::string_view line) {
+    std::vector<std::string_view> tokens;
+    std::size_t at = 0;
+    while (at < line.size()) {
+        while (at < line.size() && (line[at] == ' ' || line[at] == '\t' || line[at] == '\r'))
+            ++at;
+        if (at >= line.size() || line[at] == '#')
+            break;
+        const std::size_t begin = at;
+        while (at < line.size() && line[at] != ' ' && line[at] != '\t' && line[at] != '\r')
+            ++at;
+        tokens.push_back(line.substr(begin, at - begin));
+    }
+    return tokens;
+}
+
+// A token as it appears in a message: printable and short.
+std::string shown(std::string_view token) {
+    std::string text;
+    for (char c : token.substr(0, 24))
+        text += std::isprint(static_cast<unsigned char>(c)) != 0 ? c : '?';
+    return token.size() > 24 ? text + "..." : text;
+}
+
+bool is_finite_number(std::string_view token) {
+    if (!token.empty() && token.front() == '+')
+        token.remove_prefix(1);
+    double value = 0.0;
+    const auto [end, error] = std::from_chars(token.data(), token.data() + token.size(), value);
+    return error == std::errc() && end == token.data() + token.size() && std::isfinite(value);
+}
+
+// Calls `check(line_number, tokens)` for every line of `text` that has tokens.
+template <class Check>
+void for_each_line(std::string_view text, Check check) {
+    std::size_t number = 0;
+    while (!text.empty()) {
+        ++number;
+        const std::size_t end = text.find('\n');
+        const std::vector<std::string_view> tokens = tokens_of(text.substr(0, end));
+        text = end == std::string_view::npos ? std::string_view{} : text.substr(end + 1);
+        if (!tokens.empty())
+            check(number, tokens);
+    }
+}
+
+void check_numbers(std::size_t line, const std::vector<std::string_view>& tokens, std::size_t first,
+                   const Fail& fail) {
+    for (std::size_t i = first; i < tokens.size(); ++i)
+        if (!is_finite_number(tokens[i]))
+            throw fail("line " + std::to_string(line) + ": '" + shown(tokens[i]) +
+                       "' is not a finite number");
+}
+
+void check_obj_text(std::string_view text, const Fail& fail) {
+    for_each_line(text, [&](std::size_t line, const std::vector<std::string_view>& tokens) {
+        const std::string_view keyword = tokens.front();
+        if (keyword == "v" || keyword == "vn" || keyword == "vt") {
+            if (keyword == "v" && tokens.size() < 4)
+                throw fail("line " + std::to_string(line) + ": a vertex needs three coordinates");
+            check_numbers(line, tokens, 1, fail);
+        } else if (keyword == "f" || keyword == "l" || keyword == "p") {
+            for (std::size_t i = 1; i < tokens.size(); ++i) {
+                std::string_view rest = tokens[i];
+                while (true) { // v, v/vt, v//vn, v/vt/vn: each present index a non-zero int
+                    const std::size_t slash = rest.find('/');
+                    const std::string_view part = rest.substr(0, slash);
+                    std::int64_t index = 0;
+                    const auto [end, error] =
+                        std::from_chars(part.data(), part.data() + part.size(), index);
+                    const bool empty_allowed = part.empty() && part.data() != tokens[i].data();
+                    if (!empty_allowed &&
+                        (error != std::errc() || end != part.data() + part.size() || index == 0 ||
+                         index > std::numeric_limits<std::int32_t>::max() ||
+                         index < -std::numeric_limits<std::int32_t>::max()))
+                        throw fail("line " + std::to_string(line) + ": bad index '" +
+                                   shown(tokens[i]) + "'");
+                    if (slash == std::string_view::npos)
+                        break;
+                    rest = rest.substr(slash + 1);
+                }
+            }
+        }
+    });
+}
+
+// Colours the loader uses must be numbers: "Kd nan" would silently be black.
+void check_mtl_text(std::string_view text, const Fail& fail) {
+    for_each_line(text, [&](std::size_t line, const std::vector<std::string_view>& tokens) {
+        const std::string_view keyword = tokens.front();
+        if (keyword == "Kd" || keyword == "Ke" || keyword == "Ka" || keyword == "Ks") {
+            if (tokens.size() > 1 && tokens[1] == "spectral")
+                return;
+            check_numbers(line, tokens, tokens.size() > 1 && tokens[1] == "xyz" ? 2 : 1, fail);
+        }
+    });
+}
+
+std::string read_text(const std::filesystem::path& path, const std::string& what,
+                      const Fail& fail) {
     std::error_code error;
     const std::filesystem::file_status status = std::filesystem::status(path, error);
-    if (status.type() == std::filesystem::file_type::not_found) {
-        throw fail("no such file");
-    }
-    if (error) {
-        throw fail(error.message());
-    }
-    if (std::filesystem::is_directory(status)) {
-        throw fail("it is a directory");
-    }
-    if (!std::ifstream(path)) {
-        throw fail("the file cannot be opened");
-    }
+    if (status.type() == std::filesystem::file_type::not_found)
+        throw fail(what + "no such file");
+    if (error)
+        throw fail(what + error.message());
+    if (std::filesystem::is_directory(status))
+        throw fail(what + "it is a directory");
+    errno = 0;
+    std::ifstream in(path, std::ios::binary);
+    if (!in)
+        throw fail(what + "the file cannot be opened (" + std::generic_category().message(errno) +
+                   ")");
+    std::stringstream text;
+    text << in.rdbuf();
+    if (in.bad())
+        throw fail(what + "the file cannot be read");
+    return text.str();
+}
 
-    tinyobj::ObjReaderConfig config;
-    config.triangulate = true;
-    config.vertex_color = false;
-    config.mtl_search_path = path.has_parent_path() ? path.parent_path().string() : ".";
+// The material libraries an OBJ text names, in order.
+std::vector<std::string> material_libraries(std::string_view text) {
+    std::vector<std::string> names;
+    for_each_line(text, [&](std::size_t, const std::vector<std::string_view>& tokens) {
+        if (tokens.front() == "mtllib")
+            for (std::size_t i = 1; i < tokens.size(); ++i)
+                names.emplace_back(tokens[i]);
+    });
+    return names;
+}
 
-    tinyobj::ObjReader reader;
-    if (!reader.ParseFromFile(file, config)) {
-        throw fail(reader.Error().empty() ? std::string_view{"parse error"} : reader.Error());
-    }
-    if (reader.Warning().find("Failed to load material file(s)") != std::string::npos) {
-        throw fail("material library " + missing_material_libraries(reader.Warning()) +
-                   " not found in " + config.mtl_search_path);
-    }
-
+// The scene tinyobjloader read: materials, then the triangles with their used vertices.
+Scene build_scene(const tinyobj::ObjReader& reader, const std::string& name, const Fail& fail) {
     Scene scene;
-    scene.name = path.stem().string();
+    scene.name = name;
     for (const tinyobj::material_t& source : reader.GetMaterials()) {
         Material material;
         material.name = source.name;
@@ -397,6 +508,53 @@ Scene load_obj(const std::filesystem::path& path) {
         throw fail("it contains no triangles");
     }
     return scene;
+}
+
+} // namespace
+
+Scene parse_obj(std::string_view obj_text, std::string_view mtl_text, const std::string& name) {
+    const Fail fail = [&name](std::string_view reason) {
+        return SceneError("cannot read scene " + name + ": " + one_line(reason));
+    };
+    check_obj_text(obj_text, fail);
+    check_mtl_text(mtl_text, fail);
+    tinyobj::ObjReaderConfig config;
+    config.triangulate = true;
+    config.vertex_color = false;
+    tinyobj::ObjReader reader;
+    if (!reader.ParseFromString(std::string(obj_text), std::string(mtl_text), config))
+        throw fail(reader.Error().empty() ? std::string_view{"parse error"} : reader.Error());
+    return build_scene(reader, name, fail);
+}
+
+Scene load_obj(const std::filesystem::path& path) {
+    const std::string file = path.string();
+    const Fail fail = [&file](std::string_view reason) {
+        return SceneError("cannot read scene " + file + ": " + one_line(reason));
+    };
+    const std::string text = read_text(path, "", fail);
+    check_obj_text(text, fail);
+    const std::filesystem::path directory = path.has_parent_path() ? path.parent_path() : ".";
+    for (const std::string& library : material_libraries(text)) {
+        const std::filesystem::path mtl = directory / library;
+        std::error_code error;
+        if (std::filesystem::exists(mtl, error)) // a missing one is named below
+            check_mtl_text(read_text(mtl, "material library " + library + ": ", fail), fail);
+    }
+
+    tinyobj::ObjReaderConfig config;
+    config.triangulate = true;
+    config.vertex_color = false;
+    config.mtl_search_path = directory.string();
+    tinyobj::ObjReader reader;
+    if (!reader.ParseFromFile(file, config)) {
+        throw fail(reader.Error().empty() ? std::string_view{"parse error"} : reader.Error());
+    }
+    if (reader.Warning().find("Failed to load material file(s)") != std::string::npos) {
+        throw fail("material library " + missing_material_libraries(reader.Warning()) +
+                   " not found in " + config.mtl_search_path);
+    }
+    return build_scene(reader, path.stem().string(), fail);
 }
 
 float scene_size(const Scene& scene) {

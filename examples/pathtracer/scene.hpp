@@ -10,6 +10,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace pt {
@@ -66,9 +67,13 @@ Scene make_many_lights(std::uint32_t light_count, std::uint64_t seed);
 
 /// Wavefront OBJ with its MTL files (tinyobjloader): `Kd` is the diffuse albedo, `Ke` the
 /// emitted radiance; other MTL properties are ignored. Polygons are triangulated. Throws
-/// SceneError with a one-line message for a missing or malformed file, or a scene without
-/// triangles.
+/// SceneError with a one-line message for a missing, unreadable or malformed file (numbers
+/// that are not finite, indices out of range), or a scene without triangles.
 Scene load_obj(const std::filesystem::path& path);
+
+/// The same from text in memory: `mtl_text` is what every `mtllib` of `obj_text` reads, and
+/// `name` appears in messages (for tests and fuzzing).
+Scene parse_obj(std::string_view obj_text, std::string_view mtl_text, const std::string& name);
 
 /// Length of the diagonal of the scene's bounding box (at least 1e-6): the scale of ray
 /// offsets and default radii.
