@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 namespace {
 
@@ -56,6 +57,19 @@ TEST(Attenuation, DispatchesOnTheKind) {
               yuksel_attenuation(1.0f, 0.3f));
     EXPECT_EQ(restir::attenuate(restir::Attenuation::clamped_inverse_square, 0.1f, 0.3f),
               clamped_inverse_square(0.1f, 0.3f));
+}
+
+// At the light's own position with no radius (a VPL evaluated on itself), and for radii too
+// small to square, the falloff is large and finite, not infinity.
+TEST(YukselAttenuation, IsFiniteForAnyNonNegativeInput) {
+    for (float r : {0.0f, 1e-30f, 1e-20f})
+        for (float d : {0.0f, 1e-30f}) {
+            const float f = yuksel_attenuation(d, r);
+            EXPECT_TRUE(std::isfinite(f)) << d << " " << r;
+            EXPECT_GE(f, 2e37f) << d << " " << r;
+        }
+    EXPECT_TRUE(std::isfinite(clamped_inverse_square(0.0f, 1e-30f)));
+    EXPECT_EQ(yuksel_attenuation(std::numeric_limits<float>::infinity(), 1.0f), 0.0f);
 }
 
 } // namespace

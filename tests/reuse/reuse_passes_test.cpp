@@ -455,4 +455,59 @@ TEST(BoilingFilter, EmptiesOnlyOutliersAboveTheLocalAverage) {
     expect_same(restir::boiling_filter({2, 2}, view, params), reservoirs[12]);
 }
 
+// Preconditions a debug build checks (an assertion) and a release build survives with a
+// defined result: a pixel outside the view, more inputs than one reuse step combines, a
+// boiling-filter window larger than any image.
+TEST(ReusePreconditions, OutOfRangeCallsAreCheckedInDebugAndDefinedInRelease) {
+    const restir::ReuseBridge bridge{Target{}, AlwaysVisible{}};
+    const restir::NeighborOffsets offsets = restir::make_neighbor_offsets();
+    std::vector<Reservoir<LightId>> reservoirs(9, finalised(1u, 4u, 1.0f));
+    const std::vector<Point> surfaces(9);
+    const restir::ImageView<const Reservoir<LightId>> view{reservoirs.data(), 3u, 3u};
+    const restir::ImageView<const Point> surface_view{surfaces.data(), 3u, 3u};
+    const restir::SpatialParams params = restir::default_spatial_params();
+    restir::BoilingFilterParams filter = restir::default_boiling_filter_params();
+
+    // 40 inputs where at most max_reuse_inputs - 1 fit.
+    std::vector<restir::ReuseInput<LightId, Point>> many(40);
+    for (auto& input : many)
+        input = {&reservoirs[0], &surfaces[0]};
+    const auto combine_many = [&] {
+        restir::Pcg32 rng;
+        return restir::combine_reservoirs(reservoirs[4], surfaces[4], many.data(), 40u,
+                                          params.reuse, bridge, rng);
+    };
+#ifdef NDEBUG
+    for (PixelCoord outside : {PixelCoord{-1, 0}, PixelCoord{3, 1}, PixelCoord{1, 1000}}) {
+        restir::Pcg32 rng;
+        const Reservoir<LightId> r =
+            restir::spatial_resample(outside, view, surface_view, params, offsets, bridge, rng);
+        EXPECT_EQ(r.candidate_count, 0u);
+        EXPECT_EQ(r.contribution_weight, 0.0f);
+        EXPECT_EQ(restir::boiling_filter(outside, view, filter).candidate_count, 0u);
+    }
+    // The first max_reuse_inputs - 1 inputs take part (ASan sees any write past the array).
+    EXPECT_EQ(combine_many().candidate_count, 4u * restir::max_reuse_inputs);
+#else
+    restir::Pcg32 rng;
+    EXPECT_DEATH(
+        restir::spatial_resample({-1, 0}, view, surface_view, params, offsets, bridge, rng),
+        "contains");
+    EXPECT_DEATH(restir::boiling_filter({3, 1}, view, filter), "contains");
+    EXPECT_DEATH(combine_many(), "max_reuse_inputs");
+#endif
+    // Any radius is defined and costs no more than the image (it used to loop over the whole
+    // (2r + 1)^2 window, and convert the radius to int).
+    filter.threshold = 1.5f;
+    for (std::uint32_t radius : {0u, 1u, 1u << 30, 0xffffffffu}) {
+        filter.radius = radius;
+        expect_same(restir::boiling_filter({1, 1}, view, filter), reservoirs[4]);
+        reservoirs[8] = finalised(1u, 4u, 100.0f); // an outlier in the corner, seen from radius 1
+        EXPECT_EQ(restir::boiling_filter({2, 2}, view, filter).contribution_weight,
+                  radius == 0u ? reservoirs[8].contribution_weight : 0.0f)
+            << radius;
+        reservoirs[8] = reservoirs[0];
+    }
+}
+
 } // namespace

@@ -9,16 +9,21 @@
 
 namespace restir {
 
+/// The smallest divisor of the falloffs below (a normal float): they never exceed 2e37.
+inline constexpr float smallest_attenuation_divisor = 1e-37f;
+
 /// Yuksel's point-light attenuation (Yuksel 2020, "Point Light Attenuation Without
 /// Singularity"): the irradiance falloff of a point light spread over a sphere of radius r,
 ///   f(d) = 2 / (d^2 + r^2 + d * sqrt(d^2 + r^2)).
 /// f(0) = 2 / r^2 is finite, f(d) -> 1/d^2 as d / r grows, and f(d) < 1/d^2 everywhere.
-/// `radius` must be positive; with radius 0 this is exactly 1/d^2.
+/// `radius` should be positive; with radius 0 this is exactly 1/d^2, and at d = r = 0 it is
+/// 2e37 rather than infinity. Precondition: both non-negative (a debug build
+/// checks).
 RESTIR_HOST_DEVICE inline float yuksel_attenuation(float distance, float radius) noexcept {
     RESTIR_ASSERT(distance >= 0.0f && radius >= 0.0f);
     const float d2 = distance * distance;
     const float r2 = radius * radius;
-    return 2.0f / (d2 + r2 + distance * std::sqrt(d2 + r2));
+    return 2.0f / max_of(d2 + r2 + distance * std::sqrt(d2 + r2), smallest_attenuation_divisor);
 }
 
 /// Plain inverse-square falloff with the distance clamped from below:
@@ -27,7 +32,7 @@ RESTIR_HOST_DEVICE inline float clamped_inverse_square(float distance,
                                                        float min_distance) noexcept {
     RESTIR_ASSERT(min_distance > 0.0f);
     const float d = max_of(distance, min_distance);
-    return 1.0f / (d * d);
+    return 1.0f / max_of(d * d, smallest_attenuation_divisor);
 }
 
 /// Which falloff a point light or VPL uses.

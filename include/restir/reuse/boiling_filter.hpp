@@ -34,17 +34,27 @@ template <class Sample>
 RESTIR_HOST_DEVICE Reservoir<Sample> boiling_filter(PixelCoord pixel,
                                                     ImageView<const Reservoir<Sample>> reservoirs,
                                                     const BoilingFilterParams& params) {
+    // Precondition: `pixel` lies in the view (a debug build checks); outside, an empty one.
+    RESTIR_ASSERT(reservoirs.contains(pixel));
+    if (!reservoirs.contains(pixel))
+        return Reservoir<Sample>{};
     Reservoir<Sample> result = reservoirs[pixel];
     const float contribution = result.target_value * result.contribution_weight;
     if (!(contribution > 0.0f))
         return result;
-    const auto r = static_cast<std::int32_t>(params.radius);
+    // The window clipped to the image, in 64-bit arithmetic: any radius is safe and no larger
+    // than the image costs.
+    const std::int64_t r = params.radius;
+    const std::int64_t x0 = max_of(std::int64_t{pixel.x} - r, std::int64_t{0});
+    const std::int64_t y0 = max_of(std::int64_t{pixel.y} - r, std::int64_t{0});
+    const std::int64_t x1 = min_of(std::int64_t{pixel.x} + r, std::int64_t{reservoirs.width} - 1);
+    const std::int64_t y1 = min_of(std::int64_t{pixel.y} + r, std::int64_t{reservoirs.height} - 1);
     float sum = 0.0f;
     std::uint32_t count = 0u;
-    for (std::int32_t dy = -r; dy <= r; ++dy)
-        for (std::int32_t dx = -r; dx <= r; ++dx) {
-            const PixelCoord p{pixel.x + dx, pixel.y + dy};
-            if (!reservoirs.contains(p) || !reservoirs[p].is_well_formed())
+    for (std::int64_t y = y0; y <= y1; ++y)
+        for (std::int64_t x = x0; x <= x1; ++x) {
+            const PixelCoord p{static_cast<std::int32_t>(x), static_cast<std::int32_t>(y)};
+            if (!reservoirs[p].is_well_formed())
                 continue;
             sum += reservoirs[p].target_value * reservoirs[p].contribution_weight;
             ++count;

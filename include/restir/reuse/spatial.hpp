@@ -91,7 +91,8 @@ RESTIR_HOST_DEVICE std::uint32_t gather_spatial_neighbours(
 
 /// Spatial resampling of one pixel: its own reservoir from `reservoirs` combined with its
 /// neighbours' under `params.reuse`. Reads `reservoirs` and `surfaces` only; write the result
-/// to a different buffer. A pixel with an invalid surface keeps its reservoir.
+/// to a different buffer. A pixel with an invalid surface keeps its reservoir. Precondition:
+/// `pixel` lies in both views (a debug build checks); outside them the result is empty.
 template <class Sample, Surface S, class Target, class Visibility, class MaterialTest,
           UniformRng Rng>
 requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
@@ -100,6 +101,9 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
                      ImageView<const S> surfaces, const SpatialParams& params,
                      const NeighborOffsets& offsets,
                      const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng) {
+    RESTIR_ASSERT(reservoirs.contains(pixel) && surfaces.contains(pixel));
+    if (!reservoirs.contains(pixel) || !surfaces.contains(pixel))
+        return Reservoir<Sample>{};
     const Reservoir<Sample>& own = reservoirs[pixel];
     const S& surface = surfaces[pixel];
     if (!is_valid_surface(surface))
