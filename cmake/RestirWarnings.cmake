@@ -26,3 +26,13 @@ if(RESTIR_SANITIZE)
   target_link_options(restir_project_options INTERFACE
                       -fsanitize=address,undefined,float-cast-overflow)
 endif()
+if(RESTIR_FUZZ)
+  if(NOT CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+    message(FATAL_ERROR "RESTIR_FUZZ needs clang (libFuzzer): -DCMAKE_CXX_COMPILER=clang++")
+  endif()
+  # Coverage for libFuzzer in everything we build; the fuzz executables add its main.
+  target_compile_options(restir_project_options INTERFACE
+                         -fsanitize=fuzzer-no-link,address,undefined,float-cast-overflow
+                         -fno-sanitize-recover=all -fno-omit-frame-pointer)
+  target_link_options(restir_project_options INTERFACE -fsanitize=address,undefined)
+endif()

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Builds and runs every test: g++ and clang++ builds with warnings as errors (tests,
 # examples, benchmarks), the test suite again under AddressSanitizer + UBSan (a Debug build,
-# so assertions are on; the renderer too), and a CUDA check of the headers when nvcc is available.
+# so assertions are on; the renderer too), a CUDA check of the headers when nvcc is available,
+# and the fuzz targets (clang's libFuzzer): the checked-in corpus replayed, then
+# FUZZ_SECONDS (default 30) of exploration per target.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -43,3 +45,28 @@ build_and_test test-clang -DCMAKE_CXX_COMPILER=clang++
 build_and_test test-sanitize -DCMAKE_CXX_COMPILER=g++ -DRESTIR_SANITIZE=ON \
   -DCMAKE_BUILD_TYPE=Debug -DRESTIR_BUILD_BENCHMARKS=OFF
 build_and_test test-gcc -DCMAKE_CXX_COMPILER=g++
+
+echo "== build/fuzz: libFuzzer targets (tests/fuzz)"
+if echo 'extern "C" int LLVMFuzzerTestOneInput(const char*, unsigned long) { return 0; }' |
+  clang++ -x c++ -fsanitize=fuzzer - -o /dev/null 2>/dev/null; then
+  build_and_test fuzz -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DRESTIR_FUZZ=ON -DRESTIR_BUILD_TESTS=OFF -DRESTIR_BUILD_EXAMPLES=OFF \
+    -DRESTIR_BUILD_BENCHMARKS=OFF
+  seconds=${FUZZ_SECONDS:-30}
+  for target in obj exr pfm command_line; do
+    # New inputs go to a scratch folder; the checked-in corpus stays as it is.
+    scratch="build/fuzz/corpus/$target"
+    mkdir -p "$scratch"
+    log="build/fuzz/fuzz_$target.log"
+    if ! "build/fuzz/tests/fuzz/fuzz_$target" -max_total_time="$seconds" -timeout=10 \
+      -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix=build/fuzz/ "$scratch" "tests/fuzz/corpus/$target" >"$log" 2>&1; then
+      tail -n 40 "$log"
+      echo "fuzz_$target found a failure: the input is in build/fuzz (crash-*, timeout-*, oom-*)"
+      exit 1
+    fi
+    echo "fuzz_$target: $(grep -E '^stat::number_of_executed_units' "$log" | awk '{print $2}') runs in ${seconds} s," \
+      "coverage $(grep -oE 'cov: [0-9]+' "$log" | tail -1 | awk '{print $2}') edges"
+  done
+else
+  echo "skipped: clang++ cannot build libFuzzer targets here"
+fi
