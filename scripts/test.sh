@@ -9,7 +9,7 @@ cd "$(dirname "$0")/.."
 
 bash scripts/install-deps.sh cmake make g++ clang libglm-dev libgtest-dev libgmock-dev \
   libbenchmark-dev libstb-dev libembree-dev libtbb-dev libtinyobjloader-dev libopenexr-dev \
-  libcli11-dev
+  libcli11-dev libclang-rt-dev
 
 jobs=$(nproc)
 
