@@ -123,7 +123,8 @@ std::optional<RenderOptions> parse_render_options(int argc, const char* const* a
                    "Jitter primary rays inside the pixel (true/false); off, every method sees "
                    "pixel centres and the RMSE measures lighting noise only");
     app.add_option("--seed", settings.seed, "Seed of every random number");
-    app.add_option("--threads", settings.threads, "Worker threads (0: all cores)");
+    app.add_option("--threads", settings.threads, "Worker threads (0: all cores)")
+        ->check(CLI::Range(0u, 4096u));
     app.add_option("--max-memory", options.max_memory_mb,
                    "Refuse renders whose estimated memory exceeds this many MB (0: three "
                    "quarters of the machine's physical memory)");

@@ -177,6 +177,20 @@ TEST(Cli, NonFiniteReferenceIsAnError) {
     expect_one_line_error(small("--reference " + reference.string()), "2 pixel(s)");
 }
 
+// Hostile references (tinyexr asserted on the first; a larger image is not even allocated).
+TEST(Cli, HostileReferencesAreOneLineErrors) {
+    const fs::path dir = scratch_dir();
+    {
+        std::ofstream out(dir / "type.exr", std::ios::binary);
+        const char bytes[] = "\x76\x2f\x31\x01\x02\x00\x00\x00type\0string\0\x01\0\0\0x";
+        out.write(bytes, sizeof bytes); // 26 bytes with the final NUL
+    }
+    expect_one_line_error(small("--reference " + (dir / "type.exr").string()), "type.exr");
+    pt::write_image(dir / "large.pfm", pt::Image(64, 64));
+    expect_one_line_error(small("--reference " + (dir / "large.pfm").string()), "pixels allowed");
+    expect_one_line_error(small("--threads 5000"), "--threads");
+}
+
 // Looking straight down the up axis used to give the camera no right vector (NaN rays).
 TEST(Cli, LookingAlongTheUpAxisRenders) {
     const Outcome r = run(small("--look-from 278,900,-279 --look-at 278,0,-279"));

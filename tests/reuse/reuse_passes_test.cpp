@@ -239,6 +239,26 @@ TEST(SpatialReuse, HugeOrNanRadiusIsClamped) {
                 EXPECT_EQ(n.y, 4);
             }
         }
+    // Any rotation (NaN, huge) and any pixel (at the ends of the int range) give a defined,
+    // saturated result.
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    constexpr std::int32_t lowest = std::numeric_limits<std::int32_t>::min();
+    constexpr std::int32_t highest = std::numeric_limits<std::int32_t>::max();
+    for (const restir::DiskOffset rotation :
+         {restir::DiskOffset{nan, nan}, restir::DiskOffset{1e30f, -1e30f},
+          restir::neighbour_rotation(nan)})
+        for (std::uint32_t i = 0; i < 8u; ++i) {
+            const PixelCoord n =
+                restir::spatial_neighbour({highest, lowest}, 5u, i, 1e6f, offsets, rotation);
+            EXPECT_GE(n.x, highest - 16777217);
+            EXPECT_LE(n.y, lowest + 16777217);
+        }
+    EXPECT_EQ(restir::offset_coordinate(highest, 3.0f), highest);
+    EXPECT_EQ(restir::offset_coordinate(lowest, -3.0f), lowest);
+    EXPECT_EQ(restir::offset_coordinate(10, -2.6f), 7);
+    EXPECT_EQ(restir::offset_coordinate(10, 2.4f), 12);
+    EXPECT_EQ(restir::offset_coordinate(10, nan), 10);
+
     restir::TemporalParams params = restir::default_temporal_params();
     params.history_cap_multiplier = 3'000'000'000u;
     Reservoir<LightId> history;

@@ -35,12 +35,27 @@ struct SpatialParams {
 /// The paper's unbiased settings: pairwise MIS, visibility reuse, k = 3 in 30 pixels.
 RESTIR_HOST_DEVICE constexpr SpatialParams default_spatial_params() noexcept { return {}; }
 
+/// `coordinate` moved by `offset` rounded to the nearest pixel, for any float and any int: an
+/// offset beyond 2^24 pixels is clamped and NaN counts as 0, the sum saturates at the int
+/// range; no conversion or addition is ever undefined.
+RESTIR_HOST_DEVICE constexpr std::int32_t offset_coordinate(std::int32_t coordinate,
+                                                            float offset) noexcept {
+    constexpr float limit = 16777216.0f;
+    const float clamped = offset > 0.0f   ? min_of(offset, limit) + 0.5f
+                          : offset < 0.0f ? max_of(offset, -limit) - 0.5f
+                                          : 0.0f;
+    const std::int64_t sum = std::int64_t{coordinate} + static_cast<std::int64_t>(clamped);
+    constexpr std::int64_t lowest = -2147483647 - 1;
+    constexpr std::int64_t highest = 2147483647;
+    return static_cast<std::int32_t>(sum < lowest ? lowest : sum > highest ? highest : sum);
+}
+
 /// Neighbour `i` (0 <= i < k) of `pixel` for a pass that drew `start` (its first uniform
 /// number, as `uniform_index(u, neighbor_offset_count)`) and `rotation` (cos and sin of an
 /// angle from its second, `neighbour_rotation`): offset `start + i` of `offsets` rotated,
 /// scaled by the radius (clamped to [0, 2^24]; NaN counts as 0) and rounded to the nearest
-/// pixel. For renderers that fetch the
-/// neighbours' data ahead of the pass (prefetching, packets of rays).
+/// pixel (`offset_coordinate`: defined for any rotation and any pixel). For renderers that fetch
+/// the neighbours' data ahead of the pass (prefetching, packets of rays).
 RESTIR_HOST_DEVICE constexpr PixelCoord spatial_neighbour(PixelCoord pixel, std::uint32_t start,
                                                           std::uint32_t i, float radius,
                                                           const NeighborOffsets& offsets,
@@ -51,8 +66,7 @@ RESTIR_HOST_DEVICE constexpr PixelCoord spatial_neighbour(PixelCoord pixel, std:
     const DiskOffset table = offsets[start + i];
     const float x = (rotation.x * table.x - rotation.y * table.y) * r;
     const float y = (rotation.y * table.x + rotation.x * table.y) * r;
-    return {pixel.x + static_cast<std::int32_t>(x + (x < 0.0f ? -0.5f : 0.5f)),
-            pixel.y + static_cast<std::int32_t>(y + (y < 0.0f ? -0.5f : 0.5f))};
+    return {offset_coordinate(pixel.x, x), offset_coordinate(pixel.y, y)};
 }
 
 /// The rotation (cos, sin) of the offset table for uniform number `u`: a random rotation per
