@@ -3,6 +3,8 @@
 #include "image_io.hpp"
 #include "renderer.hpp"
 
+#include "scratch_dir.hpp"
+
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -26,14 +28,7 @@ struct Outcome {
     std::string out;
 };
 
-// One folder per test: ctest runs the tests of this file as parallel processes.
-fs::path scratch_dir() {
-    const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
-    const fs::path dir = fs::temp_directory_path() / "restir-cli-test" /
-                         (std::string(test->test_suite_name()) + "." + test->name());
-    fs::create_directories(dir);
-    return dir;
-}
+using pt_test::scratch_dir;
 
 std::string slurp(const fs::path& path) {
     std::ifstream in(path);

@@ -3,6 +3,8 @@
 #include "error_metrics.hpp"
 #include "image_io.hpp"
 
+#include "scratch_dir.hpp"
+
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -27,14 +29,7 @@ struct Outcome {
     int lines = 0;
 };
 
-// One folder per test: ctest runs the tests of this file as parallel processes.
-fs::path scratch_dir() {
-    const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
-    const fs::path dir = fs::temp_directory_path() / "restir-compare-test" /
-                         (std::string(test->test_suite_name()) + "." + test->name());
-    fs::create_directories(dir);
-    return dir;
-}
+using pt_test::scratch_dir;
 
 Outcome run(const std::string& arguments) {
     const fs::path dir = scratch_dir();

@@ -2,6 +2,8 @@
 // one-line ImageError, no crash, no allocation beyond the limits) for hand-made hostile files.
 #include "image_io.hpp"
 
+#include "scratch_dir.hpp"
+
 #include <gtest/gtest.h>
 
 #include <OpenEXR/ImfChannelList.h>
@@ -27,13 +29,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path scratch_dir() {
-    const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
-    const fs::path dir = fs::temp_directory_path() / "restir-image-test" /
-                         (std::string(test->test_suite_name()) + "." + test->name());
-    fs::create_directories(dir);
-    return dir;
-}
+using pt_test::scratch_dir;
 
 pt::Image test_image(std::uint32_t width, std::uint32_t height) {
     pt::Image image(width, height);

@@ -2,6 +2,8 @@
 // would overflow, unreadable material libraries: one-line SceneErrors, never a silent misreading.
 #include "scene.hpp"
 
+#include "scratch_dir.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -13,13 +15,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path scratch_dir() {
-    const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
-    const fs::path dir = fs::temp_directory_path() / "restir-obj-test" /
-                         (std::string(test->test_suite_name()) + "." + test->name());
-    fs::create_directories(dir);
-    return dir;
-}
+using pt_test::scratch_dir;
 
 const std::string triangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
 
