@@ -49,7 +49,7 @@ TEST(HostileFloats, BlockSelectionAndTilesStayInRange) {
         const restir::BlockSelection chosen = restir::select_in_block(block, u);
         EXPECT_LT(chosen.lane, 8u) << u;
         EXPECT_GE(chosen.weight_sum, 0.0f) << u; // invalid weights count as 0
-        const restir::PresampledLight& drawn = tiles.draw(1u, u);
+        const restir::PresampledLight& drawn = tiles.draw(1u, u, u);
         EXPECT_GE(&drawn, entries.data() + 3);
         EXPECT_LT(&drawn, entries.data() + 6);
     }

@@ -130,7 +130,9 @@ __global__ void tile_kernel(restir::PresampledLight* entries, const glm::vec3* e
     const restir::PowerLightSampler sampler{restir::AliasTableView{alias_entries, emitter_count}};
     entries[i] = restir::presample_light(sampler, lights, rng);
     const restir::LightTilesView tiles{entries, 4u, 64u};
-    const restir::PresampledLight& e = tiles.draw(tiles.tile_for(i / 64u, 0u), next_float(rng));
+    const float u0 = next_float(rng);
+    const float u1 = next_float(rng);
+    const restir::PresampledLight& e = tiles.draw(tiles.tile_for(i / 64u, 0u), u0, u1);
     restir::Reservoir<std::uint32_t> r;
     r.stream(i, 1.0f, e.pdf, next_float(rng));
     r.finalize();

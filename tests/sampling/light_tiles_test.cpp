@@ -66,9 +66,11 @@ TEST(LightTiles, TileDrawsFollowTheSourceDistribution) {
         const restir::LightTilesView tiles{entries.data(), 16u, 64u};
         restir::Pcg32 rng = restir::make_pixel_rng(set, 1u, 0u, 5u);
         for (std::uint32_t group = 0; group < 50u; ++group)
-            for (int draw = 0; draw < 10; ++draw)
-                histogram[tiles.draw(tiles.tile_for(group, set), next_float(rng))
-                              .reference.light_id] += 1.0;
+            for (int draw = 0; draw < 10; ++draw) {
+                const float u0 = next_float(rng);
+                const float u1 = next_float(rng);
+                histogram[tiles.draw(tiles.tile_for(group, set), u0, u1).reference.light_id] += 1.0;
+            }
     }
     std::vector<double> pmf;
     for (std::uint32_t i = 0; i < 8u; ++i)

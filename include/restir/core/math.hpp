@@ -55,4 +55,36 @@ RESTIR_HOST_DEVICE constexpr std::uint32_t uniform_index(float u, std::uint32_t 
     return i < count ? i : count - 1u;
 }
 
+/// The 24 bits of a uniform number in [0, 1) (all that a float from `next_float` holds), as
+/// an integer in [0, 2^24). Defined for any float: u <= 0 or NaN gives 0, u >= 1 gives
+/// 2^24 - 1.
+RESTIR_HOST_DEVICE constexpr std::uint32_t unit_bits24(float u) noexcept {
+    // In this order NaN ends as 0 (every comparison with it is false); min and max
+    // instructions, no branches.
+    return static_cast<std::uint32_t>(max_of(0.0f, min_of(u * 16777216.0f, 16777215.0f)));
+}
+
+/// An index drawn from two uniform numbers, with what is left of their bits.
+struct WideIndex {
+    std::uint32_t index = 0u;    ///< In [0, count).
+    std::uint32_t fraction = 0u; ///< In [0, 2^24): the position inside the index.
+};
+
+/// Index in [0, count) (count > 0) from the 48 bits x of two uniform numbers (`u0` the high
+/// half): floor(x count / 2^48) by fixed-point multiplication. Each index receives floor or
+/// ceil of 2^48 / count of the 2^48 values, so its probability is 1 / count within a relative
+/// count / 2^48 (below 1.6e-5 for any 32-bit count; one float's 24 bits left some of 10
+/// million lights at 0.6x and others at 1.2x). `fraction` is the top 24 bits of
+/// (x count) mod 2^48, which runs through values count apart inside the index: the test
+/// fraction < t 2^24 is true with probability t to within 2^-24 + count / 2^48, the
+/// precision of a float t.
+RESTIR_HOST_DEVICE constexpr WideIndex wide_uniform_index(float u0, float u1,
+                                                          std::uint32_t count) noexcept {
+    // x count needs 80 bits: with x = hi 2^24 + lo, floor(x count / 2^24) is
+    // hi count + floor(lo count / 2^24) < 2^57.
+    const std::uint64_t high =
+        std::uint64_t{unit_bits24(u0)} * count + ((std::uint64_t{unit_bits24(u1)} * count) >> 24);
+    return {static_cast<std::uint32_t>(high >> 24), static_cast<std::uint32_t>(high & 0xffffffu)};
+}
+
 } // namespace restir

@@ -32,10 +32,11 @@ concept LightSampler = requires(const S& s, float u, std::uint32_t id) {
 struct UniformLightSampler {
     std::uint32_t count = 0u; ///< N, the number of lights.
 
-    RESTIR_HOST_DEVICE constexpr DiscreteSample sample(float u0, float /*u1*/) const noexcept {
+    /// 48 bits from both numbers (`wide_uniform_index`): 1 / N to a relative N / 2^48.
+    RESTIR_HOST_DEVICE constexpr DiscreteSample sample(float u0, float u1) const noexcept {
         if (count == 0u)
             return {};
-        return {uniform_index(u0, count), 1.0f / static_cast<float>(count)};
+        return {wide_uniform_index(u0, u1, count).index, 1.0f / static_cast<float>(count)};
     }
     RESTIR_HOST_DEVICE constexpr float pmf(std::uint32_t id) const noexcept {
         return id < count ? 1.0f / static_cast<float>(count) : 0.0f;

@@ -33,24 +33,36 @@ struct AliasEntry {
 static_assert(std::is_trivially_copyable_v<AliasEntry>);
 static_assert(sizeof(AliasEntry) == 16);
 
+/// `keep ? a : b` without a branch: in a draw, which side wins is random, so a branch would
+/// mispredict.
+RESTIR_HOST_DEVICE constexpr std::uint32_t select_bits(bool keep, std::uint32_t a,
+                                                       std::uint32_t b) noexcept {
+    return b ^ ((a ^ b) & (0u - static_cast<std::uint32_t>(keep)));
+}
+
 /// Non-owning, device-callable view of an alias table (for instance a copy of
 /// `AliasTable::entries()` uploaded to GPU memory).
 struct AliasTableView {
     const AliasEntry* entries = nullptr;
     std::uint32_t size = 0u;
 
-    /// Draws an index: `u_bucket` picks a bucket uniformly, `u_choice` decides between the
-    /// bucket and its alias. Both are uniform numbers in [0, 1); two numbers keep the choice
-    /// exact even for millions of entries, where a single float would run out of bits.
-    RESTIR_HOST_DEVICE constexpr DiscreteSample sample(float u_bucket,
-                                                       float u_choice) const noexcept {
+    /// Draws an index from two uniform numbers in [0, 1): their 48 bits pick a bucket
+    /// uniformly and what is left of them decides between the bucket and its alias
+    /// (`wide_uniform_index`), so every index's probability matches `pmf` to a relative
+    /// size / 2^48 in the bucket and the precision of a float threshold in the choice,
+    /// however many entries there are. Branch-free.
+    RESTIR_HOST_DEVICE constexpr DiscreteSample sample(float u0, float u1) const noexcept {
         if (size == 0u)
             return {};
         RESTIR_ASSERT(entries != nullptr);
-        const std::uint32_t bucket = uniform_index(u_bucket, size);
-        const AliasEntry entry = entries[bucket];
-        return u_choice < entry.threshold ? DiscreteSample{bucket, entry.pmf}
-                                          : DiscreteSample{entry.alias, entry.alias_pmf};
+        const WideIndex bucket = wide_uniform_index(u0, u1, size);
+        const AliasEntry entry = entries[bucket.index];
+        // Exact in float on both sides; a threshold of 1 always keeps the bucket.
+        const bool keep = static_cast<float>(bucket.fraction) < entry.threshold * 16777216.0f;
+        return {select_bits(keep, bucket.index, entry.alias),
+                __builtin_bit_cast(
+                    float, select_bits(keep, __builtin_bit_cast(std::uint32_t, entry.pmf),
+                                       __builtin_bit_cast(std::uint32_t, entry.alias_pmf)))};
     }
 
     /// Probability that `sample` returns `index`; 0 outside the table.
@@ -118,9 +130,7 @@ public:
     }
 
     /// See `AliasTableView::sample`.
-    DiscreteSample sample(float u_bucket, float u_choice) const noexcept {
-        return view().sample(u_bucket, u_choice);
-    }
+    DiscreteSample sample(float u0, float u1) const noexcept { return view().sample(u0, u1); }
 
     /// See `AliasTableView::pmf`.
     float pmf(std::uint32_t index) const noexcept { return view().pmf(index); }

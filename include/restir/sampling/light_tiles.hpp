@@ -15,6 +15,7 @@
 
 #include <glm/vec2.hpp>
 
+#include <cstddef>
 #include <cstdint>
 #include <type_traits>
 
@@ -70,11 +71,13 @@ struct LightTilesView {
         return tile_count == 0u ? 0u : h % tile_count;
     }
 
-    /// A uniformly chosen entry of tile `tile`.
-    RESTIR_HOST_DEVICE constexpr const PresampledLight& draw(std::uint32_t tile,
-                                                             float u) const noexcept {
+    /// A uniformly chosen entry of tile `tile`, from two uniform numbers in [0, 1) (48 bits:
+    /// every entry equally likely within a relative tile_size / 2^48, `wide_uniform_index`).
+    RESTIR_HOST_DEVICE constexpr const PresampledLight& draw(std::uint32_t tile, float u0,
+                                                             float u1) const noexcept {
         RESTIR_ASSERT(tile < tile_count && tile_size > 0u);
-        return entries[tile * tile_size + uniform_index(u, tile_size)];
+        return entries[std::size_t{tile} * tile_size +
+                       wide_uniform_index(u0, u1, tile_size).index];
     }
 };
 

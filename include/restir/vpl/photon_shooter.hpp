@@ -115,9 +115,9 @@ trace_photon(std::uint32_t photon_index, const PhotonSource& source, const Query
     if (source.table.size == 0u || params.photon_count == 0u)
         return 0u;
     Pcg32 rng = make_pixel_rng(photon_index, 0u, 1u, params.seed);
-    const float u_bucket = next_float(rng);
-    const float u_choice = next_float(rng);
-    const DiscreteSample choice = source.table.sample(u_bucket, u_choice);
+    const float u_first = next_float(rng); // named, so that the order is fixed
+    const float u_second = next_float(rng);
+    const DiscreteSample choice = source.table.sample(u_first, u_second);
     if (!(choice.pmf > 0.0f))
         return 0u;
     const EmitterPoint& emitter = source.points[choice.index];
