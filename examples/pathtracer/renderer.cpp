@@ -557,9 +557,8 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
 
     im.scene_size = scene_size(scene);
     im.ray_offset = 1e-4f * im.scene_size;
-    im.falloff = {restir::Attenuation::yuksel, settings.attenuation_radius > 0.0f
-                                                   ? settings.attenuation_radius
-                                                   : 0.02f * im.scene_size};
+    im.falloff = restir::Falloff::yuksel(
+        settings.attenuation_radius > 0.0f ? settings.attenuation_radius : 0.02f * im.scene_size);
     im.camera = Camera(settings.camera, settings.width, settings.height);
     im.previous_camera = im.camera;
 

@@ -89,4 +89,14 @@ TEST(LightIrradiance, AreaSamplesDivideByTheirDensityAndPointLightsAreIsotropic)
         restir::unshadowed_irradiance(point, glm::vec3(0.0f), {0.0f, 0.0f, -1.0f}, exact).x, 0.0f);
 }
 
+// The default falloff is the exact one; the bounded ones are asked for by name.
+TEST(Falloff, DefaultIsExactAndTheBoundedOnesAreNamed) {
+    EXPECT_EQ(restir::Falloff{}.kind, restir::Attenuation::inverse_square);
+    EXPECT_EQ(restir::Falloff::exact().kind, restir::Attenuation::inverse_square);
+    EXPECT_EQ(restir::Falloff::yuksel(0.2f).kind, restir::Attenuation::yuksel);
+    EXPECT_EQ(restir::Falloff::yuksel(0.2f).parameter, 0.2f);
+    EXPECT_EQ(restir::Falloff::clamped(0.3f).kind, restir::Attenuation::clamped_inverse_square);
+    EXPECT_EQ(restir::Falloff::clamped(0.3f).parameter, 0.3f);
+}
+
 } // namespace

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <limits>
 #include <set>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -528,6 +529,19 @@ TEST(ReusePreconditions, OutOfRangeCallsAreCheckedInDebugAndDefinedInRelease) {
             << radius;
         reservoirs[8] = reservoirs[0];
     }
+}
+
+// A writable view passes where a pass reads (ImageView<T> -> ImageView<const T>), never the
+// other way round.
+TEST(ImageView, ConvertsToReadOnly) {
+    std::vector<Reservoir<LightId>> reservoirs(6);
+    const restir::ImageView<Reservoir<LightId>> writable{reservoirs.data(), 3u, 2u};
+    const restir::ImageView<const Reservoir<LightId>> readable = writable;
+    EXPECT_EQ(readable.data, reservoirs.data());
+    EXPECT_EQ(readable.width, 3u);
+    EXPECT_EQ(readable.height, 2u);
+    static_assert(!std::is_convertible_v<restir::ImageView<const Reservoir<LightId>>,
+                                         restir::ImageView<Reservoir<LightId>>>);
 }
 
 } // namespace

@@ -16,10 +16,23 @@
 namespace restir {
 
 /// Distance falloff applied to delta lights (VPLs and point lights); area lights use the exact
-/// geometry term, which their area density keeps finite in expectation.
+/// geometry term, which their area density keeps finite in expectation. The default is the
+/// exact 1/d^2 (unbiased, unbounded near a light); `yuksel` and `clamped` bound it and are
+/// biased (docs/noise-and-bias.md): VPL renderers want one of them, by name.
 struct Falloff {
-    Attenuation kind = Attenuation::yuksel;
-    float parameter = 0.05f; ///< Yuksel radius or minimum distance, in scene units.
+    Attenuation kind = Attenuation::inverse_square;
+    float parameter = 0.0f; ///< Yuksel radius or minimum distance, in scene units.
+
+    /// Exact inverse square (the default).
+    RESTIR_HOST_DEVICE static constexpr Falloff exact() noexcept { return {}; }
+    /// Yuksel's attenuation with sphere radius `radius` (biased, finite everywhere).
+    RESTIR_HOST_DEVICE static constexpr Falloff yuksel(float radius) noexcept {
+        return {Attenuation::yuksel, radius};
+    }
+    /// 1 / max(d, `min_distance`)^2 (biased, finite everywhere).
+    RESTIR_HOST_DEVICE static constexpr Falloff clamped(float min_distance) noexcept {
+        return {Attenuation::clamped_inverse_square, min_distance};
+    }
 };
 
 /// Emission towards `direction` (unit, from the light to the receiver) relative to the

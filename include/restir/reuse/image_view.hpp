@@ -6,6 +6,7 @@
 #include "restir/config.hpp"
 
 #include <cstdint>
+#include <type_traits>
 
 namespace restir {
 
@@ -33,6 +34,13 @@ struct ImageView {
     RESTIR_HOST_DEVICE constexpr T& operator[](PixelCoord p) const noexcept {
         RESTIR_ASSERT(contains(p));
         return data[static_cast<std::uint32_t>(p.x) + static_cast<std::uint32_t>(p.y) * width];
+    }
+
+    /// The same image, read-only: `ImageView<T>` converts to `ImageView<const T>`, so a
+    /// buffer written by one pass is passed as it is to the next pass, which reads it.
+    RESTIR_HOST_DEVICE constexpr operator ImageView<const T>() const noexcept
+        requires(!std::is_const_v<T>) {
+        return {data, width, height};
     }
 
     /// The linear index of `p` (for seeding per-pixel random numbers).

@@ -12,6 +12,8 @@
 #include "restir/core/rng.hpp"
 #include "restir/light/light_sample.hpp"
 #include "restir/light/light_sampler.hpp"
+#include "restir/sampling/light_candidates.hpp"
+#include "restir/sampling/ris.hpp"
 
 #include <glm/vec2.hpp>
 
@@ -31,22 +33,20 @@ struct PresampledLight {
 
 static_assert(std::is_trivially_copyable_v<PresampledLight>);
 
-/// Draws one light from `sampler` (two numbers) and a uniform uv (two more), and evaluates it
-/// with `lights`. A candidate taken from a tile filled this way, by a uniformly random entry,
-/// has exactly the sampler's distribution: RIS over such candidates stays unbiased, since RIS
-/// needs each candidate's marginal density, not independence (the estimate is the average of
+/// Draws one light candidate (`draw_light_candidate`: the pdf is the light's pmf) and
+/// evaluates it with `lights`. A candidate taken from a tile filled this way, by a uniformly random
+/// entry, has exactly the sampler's distribution: RIS over such candidates stays unbiased, since
+/// RIS needs each candidate's marginal density, not independence (the estimate is the average of
 /// f(x_i) / p(x_i) in expectation, which linearity gives for dependent candidates too).
 template <LightSampler Sampler, LightSet Lights, UniformRng Rng>
 RESTIR_HOST_DEVICE PresampledLight presample_light(const Sampler& sampler, const Lights& lights,
                                                    Rng& rng) {
-    const DiscreteSample choice = sample_light(sampler, rng);
-    const float u = next_float(rng);
-    const float v = next_float(rng);
+    const SourceSample<LightSampleRef> candidate = draw_light_candidate(sampler, rng);
     PresampledLight entry;
-    entry.reference = {choice.index, glm::vec2(u, v)};
-    entry.pdf = choice.pmf;
-    if (choice.pmf > 0.0f) {
-        const auto p = lights.sample_point(choice.index, entry.reference.uv);
+    entry.reference = candidate.sample;
+    entry.pdf = candidate.pdf;
+    if (candidate.pdf > 0.0f) {
+        const auto p = lights.sample_point(entry.reference.light_id, entry.reference.uv);
         entry.point.position = p.position;
         entry.point.normal = p.normal;
         entry.point.radiance = p.radiance;
@@ -76,8 +76,7 @@ struct LightTilesView {
     RESTIR_HOST_DEVICE constexpr const PresampledLight& draw(std::uint32_t tile, float u0,
                                                              float u1) const noexcept {
         RESTIR_ASSERT(tile < tile_count && tile_size > 0u);
-        return entries[std::size_t{tile} * tile_size +
-                       wide_uniform_index(u0, u1, tile_size).index];
+        return entries[std::size_t{tile} * tile_size + wide_uniform_index(u0, u1, tile_size).index];
     }
 };
 
