@@ -38,8 +38,10 @@ struct ImageView {
 
     /// The same image, read-only: `ImageView<T>` converts to `ImageView<const T>`, so a
     /// buffer written by one pass is passed as it is to the next pass, which reads it.
-    RESTIR_HOST_DEVICE constexpr operator ImageView<const T>() const noexcept
-        requires(!std::is_const_v<T>) {
+    /// (A template, so that views of const elements declare no conversion to themselves.)
+    template <class U = T>
+    requires(std::is_same_v<U, T> && !std::is_const_v<U>) RESTIR_HOST_DEVICE constexpr
+    operator ImageView<const U>() const noexcept {
         return {data, width, height};
     }
 
