@@ -130,10 +130,7 @@ int main(int argc, char** argv) {
         // RIS: candidates x_i from the power sampler with pdf p(x_i), kept in proportion to
         // p-hat(x_i) / p(x_i); W then makes f(y) * W an unbiased estimate of the full sum.
         rng = restir::make_pixel_rng(pixel, /*frame=*/0u, /*pass=*/1u, kSeed);
-        const auto draw = [&](restir::Pcg32& r) {
-            const restir::DiscreteSample c = restir::sample_light(power, r);
-            return restir::SourceSample<restir::LightSampleRef>{{.light_id = c.index}, c.pmf};
-        };
+        const auto draw = [&](restir::Pcg32& r) { return restir::draw_light_candidate(power, r); };
         const auto p_hat = [&](const restir::LightSampleRef& ref) { return target(ref, surface); };
         const auto reservoir = restir::resample_ris(rng, kCandidates, draw, p_hat);
         const restir::LightSampleRef& y = reservoir.sample;
