@@ -10,7 +10,6 @@
 #include "renderer.hpp"
 #include "scene.hpp"
 
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

@@ -21,7 +21,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         const pt::CameraSetup setup = pt::frame_bounds(scene, 1.5f);
         pt::check_camera(setup);
         const pt::Camera camera(setup, 48, 32);
-        for (const glm::vec2 pixel : {glm::vec2(0.0f), glm::vec2(24.0f, 16.0f), glm::vec2(48, 32)}) {
+        for (const glm::vec2 pixel :
+             {glm::vec2(0.0f), glm::vec2(24.0f, 16.0f), glm::vec2(48, 32)}) {
             const glm::vec3 d = camera.direction(pixel);
             if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z))
                 __builtin_trap(); // the check passed a camera that cannot form rays
