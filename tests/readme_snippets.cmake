@@ -13,5 +13,6 @@ foreach(block IN LISTS blocks)
   string(APPEND body "${block}")
 endforeach()
 string(REPLACE "<semicolon>" ";" body "${body}")
-file(WRITE ${OUTPUT}.tmp "// Generated from ${MARKDOWN}: do not edit.\n#include \"readme/prelude.hpp\"\n\nvoid readme::Frame::snippets() {\n${body}}\n")
-file(COPY_FILE ${OUTPUT}.tmp ${OUTPUT} ONLY_IF_DIFFERENT)
+# Written every time (a copy only when different would leave the output older than README.md,
+# and make would run this again on every build).
+file(WRITE ${OUTPUT} "// Generated from ${MARKDOWN}: do not edit.\n#include \"readme/prelude.hpp\"\n\nvoid readme::Frame::snippets() {\n${body}}\n")

@@ -70,7 +70,14 @@ int main(int argc, char** argv) {
              std::to_string(region_values.size()));
 
     try {
-        const pt::Image image = pt::read_image(image_path);
+        // Every measure of an image with NaN or infinite pixels would be NaN.
+        const auto read_finite = [](const std::string& path) {
+            pt::Image read = pt::read_image(path);
+            if (const std::size_t bad = pt::non_finite_pixels(read); bad > 0)
+                fail(path + " has " + std::to_string(bad) + " pixel(s) that are not finite");
+            return read;
+        };
+        const pt::Image image = read_finite(image_path);
         pt::Region area{0, 0, image.width, image.height};
         if (back_wall)
             area = pt::cornell_back_wall_region(image.width, image.height);
@@ -78,7 +85,7 @@ int main(int argc, char** argv) {
             area = {region_values[0], region_values[1], region_values[2], region_values[3]};
         const pt::RowStructure own = pt::row_structure(image, area);
         if (!reference_path.empty())
-            print_errors(image, pt::read_image(reference_path));
+            print_errors(image, read_finite(reference_path));
         print("image_row_ratio", own.row_ratio);
         print("image_column_ratio", own.column_ratio);
     } catch (const std::exception& e) {

@@ -620,6 +620,13 @@ Image read_image(const std::filesystem::path& path, const ReadLimits& limits) {
     return decode_image(data, path, limits);
 }
 
+std::size_t non_finite_pixels(const Image& image) {
+    return static_cast<std::size_t>(
+        std::count_if(image.pixels.begin(), image.pixels.end(), [](const glm::vec3& p) {
+            return !(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
+        }));
+}
+
 float auto_exposure(const Image& image) {
     if (image.pixels.empty()) {
         return 0.0f;

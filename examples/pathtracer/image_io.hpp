@@ -4,6 +4,7 @@
 
 #include <glm/vec3.hpp>
 
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <span>
@@ -54,6 +55,10 @@ Image read_image(const std::filesystem::path& path, const ReadLimits& limits = {
 /// and appears in messages. Throws ImageError as `read_image` does.
 Image decode_image(std::span<const char> bytes, const std::filesystem::path& path,
                    const ReadLimits& limits = {});
+
+/// The number of pixels with a NaN or infinite channel: every error measure of an image with
+/// one would be NaN, so the tools refuse such images.
+std::size_t non_finite_pixels(const Image& image);
 
 /// The exposure (in stops) that maps the image's average luminance to 0.18, the usual
 /// middle grey; 0 for a black image.

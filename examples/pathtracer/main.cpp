@@ -121,11 +121,7 @@ int main(int argc, char** argv) {
                      std::to_string(reference->width) + "x" + std::to_string(reference->height) +
                      " but the image is " + std::to_string(settings.width) + "x" +
                      std::to_string(settings.height));
-            const auto bad = std::count_if(
-                reference->pixels.begin(), reference->pixels.end(), [](const glm::vec3& p) {
-                    return !(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
-                });
-            if (bad > 0) // every error measure would be NaN
+            if (const std::size_t bad = pt::non_finite_pixels(*reference); bad > 0)
                 fail("the reference " + options.reference + " has " + std::to_string(bad) +
                      " pixel(s) that are not finite");
         }

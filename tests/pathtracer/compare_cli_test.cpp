@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <random>
 #include <sstream>
@@ -148,6 +149,12 @@ TEST(CompareCli, BadInputIsOneLineAndStatusTwo) {
     pt::write_image(dir / "small.exr", small);
     expect_one_line_error(image + " --reference " + (dir / "small.exr").string(), "8x6");
     expect_one_line_error((dir / "small.exr").string() + " --cornell-back-wall", "too small");
+    // Non-finite pixels, in the image or the reference (every measure would print nan).
+    pt::Image poisoned(40, 30);
+    poisoned.at(3, 4) = glm::vec3(std::numeric_limits<float>::quiet_NaN());
+    pt::write_image(dir / "nan.pfm", poisoned);
+    expect_one_line_error((dir / "nan.pfm").string(), "1 pixel(s) that are not finite");
+    expect_one_line_error(image + " --reference " + (dir / "nan.pfm").string(), "not finite");
     std::ofstream(dir / "garbage.exr") << "not an image\n";
     expect_one_line_error((dir / "garbage.exr").string(), "garbage.exr");
     expect_one_line_error((dir / "image.png").string(), ".png");
