@@ -18,7 +18,9 @@
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <map>
 #include <numbers>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <string_view>
@@ -69,27 +71,6 @@ std::string one_line(std::string_view text) {
         result += line;
     }
     return result;
-}
-
-/// The names in tinyobjloader's "Material file [ NAME ] not found in a path : DIR" warnings.
-std::string missing_material_libraries(const std::string& warnings) {
-    constexpr std::string_view prefix = "Material file [ ";
-    constexpr std::string_view suffix = " ] not found";
-    std::string names;
-    std::size_t position = 0;
-    while ((position = warnings.find(prefix, position)) != std::string::npos) {
-        position += prefix.size();
-        const std::size_t end = warnings.find(suffix, position);
-        if (end == std::string::npos) {
-            break;
-        }
-        if (!names.empty()) {
-            names += ", ";
-        }
-        names += warnings.substr(position, end - position);
-        position = end;
-    }
-    return names;
 }
 
 } // namespace
@@ -423,11 +404,38 @@ std::vector<std::string> material_libraries(std::string_view text) {
     return names;
 }
 
-// The scene tinyobjloader read: materials, then the triangles with their used vertices.
-Scene build_scene(const tinyobj::ObjReader& reader, const std::string& name, const Fail& fail) {
+// What tinyobjloader reads from an OBJ text.
+struct ObjData {
+    tinyobj::attrib_t attrib;
+    std::vector<tinyobj::shape_t> shapes;
+    std::vector<tinyobj::material_t> materials;
+};
+
+// Material libraries served from text already read and checked, so that no file is read
+// twice: `texts` by name, or `fallback` for every name (parse_obj).
+class MaterialTexts final : public tinyobj::MaterialReader {
+public:
+    std::map<std::string, std::string> texts;
+    std::optional<std::string> fallback;
+
+    bool operator()(const std::string& name, std::vector<tinyobj::material_t>* materials,
+                    std::map<std::string, int>* names, std::string* warning,
+                    std::string* error) override {
+        const auto found = texts.find(name);
+        if (found == texts.end() && !fallback)
+            return false; // load_obj checked every library exists before parsing
+        std::istringstream in(found != texts.end() ? found->second : *fallback);
+        tinyobj::LoadMtl(names, materials, &in, warning, error);
+        return true;
+    }
+};
+
+// The scene of the data tinyobjloader read: materials, then the triangles with their used
+// vertices.
+Scene build_scene(const ObjData& data, const std::string& name, const Fail& fail) {
     Scene scene;
     scene.name = name;
-    for (const tinyobj::material_t& source : reader.GetMaterials()) {
+    for (const tinyobj::material_t& source : data.materials) {
         Material material;
         material.name = source.name;
         material.albedo = glm::clamp(
@@ -449,7 +457,7 @@ Scene build_scene(const tinyobj::ObjReader& reader, const std::string& name, con
         return *default_material;
     };
 
-    const std::vector<tinyobj::real_t>& coordinates = reader.GetAttrib().vertices;
+    const std::vector<tinyobj::real_t>& coordinates = data.attrib.vertices;
     const std::size_t vertex_count = coordinates.size() / 3;
     constexpr std::uint32_t unused = std::numeric_limits<std::uint32_t>::max();
     std::vector<std::uint32_t> remap(vertex_count, unused);
@@ -482,7 +490,7 @@ Scene build_scene(const tinyobj::ObjReader& reader, const std::string& name, con
         return target;
     };
 
-    for (const tinyobj::shape_t& shape : reader.GetShapes()) {
+    for (const tinyobj::shape_t& shape : data.shapes) {
         const tinyobj::mesh_t& mesh = shape.mesh;
         std::size_t offset = 0;
         for (std::size_t face = 0; face < mesh.num_face_vertices.size(); ++face) {
@@ -510,21 +518,30 @@ Scene build_scene(const tinyobj::ObjReader& reader, const std::string& name, con
     return scene;
 }
 
+// The scene tinyobjloader reads from `obj_text` (checked here) and `libraries` (checked by the
+// caller): materials, then the triangles with their used vertices.
+Scene read_obj(std::string_view obj_text, MaterialTexts& libraries, const std::string& name,
+               const Fail& fail) {
+    check_obj_text(obj_text, fail);
+    ObjData data;
+    std::string warning, error;
+    std::istringstream in{std::string(obj_text)};
+    if (!tinyobj::LoadObj(&data.attrib, &data.shapes, &data.materials, &warning, &error, &in,
+                          &libraries, /*triangulate=*/true, /*default_vcols_fallback=*/false))
+        throw fail(error.empty() ? std::string_view{"parse error"} : error);
+    return build_scene(data, name, fail);
+}
+
 } // namespace
 
 Scene parse_obj(std::string_view obj_text, std::string_view mtl_text, const std::string& name) {
     const Fail fail = [&name](std::string_view reason) {
         return SceneError("cannot read scene " + name + ": " + one_line(reason));
     };
-    check_obj_text(obj_text, fail);
     check_mtl_text(mtl_text, fail);
-    tinyobj::ObjReaderConfig config;
-    config.triangulate = true;
-    config.vertex_color = false;
-    tinyobj::ObjReader reader;
-    if (!reader.ParseFromString(std::string(obj_text), std::string(mtl_text), config))
-        throw fail(reader.Error().empty() ? std::string_view{"parse error"} : reader.Error());
-    return build_scene(reader, name, fail);
+    MaterialTexts libraries;
+    libraries.fallback = std::string(mtl_text);
+    return read_obj(obj_text, libraries, name, fail);
 }
 
 Scene load_obj(const std::filesystem::path& path) {
@@ -533,28 +550,18 @@ Scene load_obj(const std::filesystem::path& path) {
         return SceneError("cannot read scene " + file + ": " + one_line(reason));
     };
     const std::string text = read_text(path, "", fail);
-    check_obj_text(text, fail);
     const std::filesystem::path directory = path.has_parent_path() ? path.parent_path() : ".";
+    MaterialTexts libraries;
     for (const std::string& library : material_libraries(text)) {
         const std::filesystem::path mtl = directory / library;
         std::error_code error;
-        if (std::filesystem::exists(mtl, error)) // a missing one is named below
-            check_mtl_text(read_text(mtl, "material library " + library + ": ", fail), fail);
+        if (!std::filesystem::exists(mtl, error))
+            throw fail("material library " + library + " not found in " + directory.string());
+        std::string mtl_text = read_text(mtl, "material library " + library + ": ", fail);
+        check_mtl_text(mtl_text, fail);
+        libraries.texts.emplace(library, std::move(mtl_text));
     }
-
-    tinyobj::ObjReaderConfig config;
-    config.triangulate = true;
-    config.vertex_color = false;
-    config.mtl_search_path = directory.string();
-    tinyobj::ObjReader reader;
-    if (!reader.ParseFromFile(file, config)) {
-        throw fail(reader.Error().empty() ? std::string_view{"parse error"} : reader.Error());
-    }
-    if (reader.Warning().find("Failed to load material file(s)") != std::string::npos) {
-        throw fail("material library " + missing_material_libraries(reader.Warning()) +
-                   " not found in " + config.mtl_search_path);
-    }
-    return build_scene(reader, path.stem().string(), fail);
+    return read_obj(text, libraries, path.stem().string(), fail);
 }
 
 float scene_size(const Scene& scene) {
