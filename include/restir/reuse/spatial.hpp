@@ -53,16 +53,14 @@ RESTIR_HOST_DEVICE constexpr std::int32_t offset_coordinate(std::int32_t coordin
 /// Neighbour `i` (0 <= i < k) of `pixel` for a pass that drew `start` (its first uniform
 /// number, as `uniform_index(u, neighbor_offset_count)`) and `rotation` (cos and sin of an
 /// angle from its second, `neighbour_rotation`): offset `start + i` of `offsets` rotated,
-/// scaled by the radius (clamped to [0, 2^24]; NaN counts as 0) and rounded to the nearest
-/// pixel (`offset_coordinate`: defined for any rotation and any pixel). For renderers that fetch
-/// the neighbours' data ahead of the pass (prefetching, packets of rays).
+/// scaled by the radius (NaN and negative radii count as 0) and rounded to the nearest pixel
+/// (`offset_coordinate`: offsets clamped to 2^24, defined for any rotation and any pixel). For
+/// renderers that fetch the neighbours' data ahead of the pass (prefetching, packets of rays).
 RESTIR_HOST_DEVICE constexpr PixelCoord spatial_neighbour(PixelCoord pixel, std::uint32_t start,
                                                           std::uint32_t i, float radius,
                                                           const NeighborOffsets& offsets,
                                                           DiskOffset rotation = {1.0f, 0.0f}) {
-    // A radius beyond 2^24 pixels (or NaN, or negative) is clamped, so the offset always fits
-    // an int.
-    const float r = radius > 0.0f ? min_of(radius, 16777216.0f) : 0.0f;
+    const float r = radius > 0.0f ? radius : 0.0f; // NaN and negative: no offset
     const DiskOffset table = offsets[start + i];
     const float x = (rotation.x * table.x - rotation.y * table.y) * r;
     const float y = (rotation.y * table.x + rotation.x * table.y) * r;

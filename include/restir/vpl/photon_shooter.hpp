@@ -8,6 +8,7 @@
 #include "restir/config.hpp"
 #include "restir/core/math.hpp"
 #include "restir/core/rng.hpp"
+#include "restir/light/light_sampler.hpp"
 #include "restir/sampling/alias_table.hpp"
 #include "restir/vpl/emitter_points.hpp"
 #include "restir/vpl/vpl.hpp"
@@ -115,9 +116,7 @@ trace_photon(std::uint32_t photon_index, const PhotonSource& source, const Query
     if (source.table.size == 0u || params.photon_count == 0u)
         return 0u;
     Pcg32 rng = make_pixel_rng(photon_index, 0u, 1u, params.seed);
-    const float u_first = next_float(rng); // named, so that the order is fixed
-    const float u_second = next_float(rng);
-    const DiscreteSample choice = source.table.sample(u_first, u_second);
+    const DiscreteSample choice = sample_light(PowerLightSampler{source.table}, rng);
     if (!(choice.pmf > 0.0f))
         return 0u;
     const EmitterPoint& emitter = source.points[choice.index];
