@@ -441,6 +441,246 @@ struct Renderer::Impl {
         return reservoir;
     }
 
+    // --- ReSTIR: the library's frame recipe (restir/reuse/di_frame.hpp), its visibility rays
+    // traced by the renderer as packets per 8 x 8 block ---------------------------------------
+
+    // The previous camera's pixel of this frame's surface at `p` (temporal reuse).
+    struct CameraReprojection {
+        const Impl* im = nullptr;
+        restir::PixelCoord operator()(restir::PixelCoord p) const {
+            const GSurface& s = im->surfaces[static_cast<std::size_t>(p.x) +
+                                             static_cast<std::size_t>(p.y) * im->r.settings_.width];
+            glm::vec2 q;
+            if (!im->previous_camera.project(s.position, q))
+                return {-1, -1};
+            return {static_cast<std::int32_t>(std::floor(q.x)),
+                    static_cast<std::int32_t>(std::floor(q.y))};
+        }
+    };
+    using DiFrame = restir::DiFrame<restir::LightPointSample, GSurface, CameraReprojection>;
+
+    restir::DiFrameParams di_frame_params() const {
+        const RenderSettings& rs = r.settings_;
+        restir::DiFrameParams p = restir::default_di_frame_params();
+        p.reuse = {rs.bias_correction, rs.visibility_reuse, rs.mis_rays};
+        p.temporal.history_cap_multiplier = rs.history_cap;
+        p.temporal.permutation_sampling = rs.permutation_sampling;
+        p.spatial.neighbour_count = rs.neighbours;
+        p.spatial.radius = rs.radius > 0.0f
+                               ? rs.radius
+                               : std::max(3.0f, 30.0f * static_cast<float>(rs.height) / 1080.0f);
+        p.spatial_passes = rs.spatial_passes;
+        p.boiling_filter = rs.boiling_threshold > 0.0f;
+        p.boiling.threshold = rs.boiling_threshold;
+        p.deferred_visibility = true; // test_visibility and trace_mis_rays trace in packets
+        return p;
+    }
+    // This frame's recipe; `history` false after a new VPL set (last frame's samples belong to
+    // another integrand) and in frame 0.
+    DiFrame di_frame(std::uint32_t frame, bool history) const {
+        const std::uint32_t w = r.settings_.width, h = r.settings_.height;
+        DiFrame f{.params = di_frame_params(),
+                  .frame_index = frame,
+                  .surfaces = {surfaces.data(), w, h},
+                  .reproject = {this},
+                  .offsets = offsets};
+        if (history && frame > 0) {
+            f.previous_surfaces = {previous_surfaces.data(), w, h};
+            f.history = {previous_reservoirs.data(), w, h};
+        }
+        return f;
+    }
+    restir::ImageView<const Reservoir> view_of(const ReservoirBuffer& buffer) const {
+        return {buffer.data(), r.settings_.width, r.settings_.height};
+    }
+    static restir::PixelCoord coord(std::uint32_t x, std::uint32_t y) {
+        return {static_cast<std::int32_t>(x), static_cast<std::int32_t>(y)};
+    }
+    auto reuse_bridge() const {
+        return restir::ReuseBridge{[this](const restir::LightPointSample& sample,
+                                          const GSurface& s) { return point_target(sample, s); },
+                                   point_visibility()};
+    }
+
+    // Stage 1: initial candidates into `reservoirs`, tested for visibility.
+    void di_initial(const DiFrame& f) {
+        const auto reservoir_at = [this](std::uint32_t i) -> Reservoir& { return reservoirs[i]; };
+        for_each_block_by_tile(f.frame_index, [&](const PixelBlock& block) {
+            for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
+                reservoirs[i] = Reservoir{};
+                if (!surfaces[i].valid)
+                    return;
+                restir::Pcg32 rng = restir::make_pixel_rng(
+                    i, f.frame_index, restir::DiStream::initial, r.settings_.seed);
+                reservoirs[i] =
+                    f.initial(coord(x, y), initial_reservoir(x, y, f.frame_index, surfaces[i], rng),
+                              point_visibility());
+            });
+            test_visibility(block, reservoir_at, [&](std::uint32_t i) {
+                return f.needs_visibility_test(reservoirs[i]);
+            });
+        });
+    }
+
+    // Stage 2: temporal reuse from `reservoirs` into `scratch`, then swapped; the MIS ray
+    // towards the history's surface traced ahead, and the results that a spatial pass reads
+    // retested (a pixel that kept its own sample needs no ray).
+    void di_temporal(const DiFrame& f) {
+        const RenderSettings& rs = r.settings_;
+        const auto reservoir_at = [this](std::uint32_t i) -> Reservoir& { return reservoirs[i]; };
+        const auto scratch_at = [this](std::uint32_t i) -> Reservoir& { return scratch[i]; };
+        const bool mis_rays = traces_mis_rays();
+        for_each_block([&](const PixelBlock& block) {
+            std::array<MisRayCache, pixel_block * pixel_block> caches;
+            if (mis_rays)
+                trace_mis_rays(
+                    block, reservoir_at,
+                    [&](std::uint32_t i, std::array<const GSurface*, max_cached_rays>& out) {
+                        out[0] = f.temporal_input(coord(i % rs.width, i / rs.width)).surface;
+                        return out[0] != nullptr ? 1u : 0u;
+                    },
+                    caches);
+            std::uint32_t k = 0;
+            for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
+                restir::Pcg32 rng =
+                    restir::make_pixel_rng(i, f.frame_index, restir::DiStream::temporal, rs.seed);
+                scratch[i] =
+                    f.temporal(coord(x, y), reservoirs[i], cached_bridge(caches[k++]), rng);
+            });
+            if (f.params.spatial_passes > 0)
+                test_visibility(block, scratch_at, [&](std::uint32_t i) {
+                    return f.needs_visibility_test(scratch[i], reservoirs[i]);
+                });
+        });
+        std::swap(reservoirs, scratch);
+    }
+
+    // Stage 3, one pass from `reservoirs` into `scratch`, then swapped: in two steps, so that
+    // the MIS rays of the whole block go out as packets in between (the neighbours found, the
+    // rays from each pixel's own sample towards them traced, then the reservoirs combined with a
+    // bridge that answers those rays and targets from the cache).
+    void di_spatial(const DiFrame& f, std::uint32_t pass) {
+        const RenderSettings& rs = r.settings_;
+        const auto reservoir_at = [this](std::uint32_t i) -> Reservoir& { return reservoirs[i]; };
+        const auto scratch_at = [this](std::uint32_t i) -> Reservoir& { return scratch[i]; };
+        const restir::ImageView<const Reservoir> input = view_of(reservoirs);
+        const bool mis_rays = traces_mis_rays();
+        for_each_block([&](const PixelBlock& block) {
+            constexpr std::uint32_t pixels = pixel_block * pixel_block;
+            using Input = restir::ReuseInput<restir::LightPointSample, GSurface>;
+            std::array<std::array<Input, restir::max_reuse_inputs>, pixels> inputs;
+            std::array<std::uint32_t, pixels> counts{};
+            std::array<restir::Pcg32, pixels> rngs;
+            std::uint32_t k = 0;
+            for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
+                rngs[k] = restir::make_pixel_rng(i, f.frame_index, restir::DiStream::spatial + pass,
+                                                 rs.seed);
+                counts[k] = f.spatial_neighbours(coord(x, y), input, restir::AnyMaterial{}, rngs[k],
+                                                 inputs[k].data());
+                ++k;
+            });
+            std::array<MisRayCache, pixels> caches;
+            if (mis_rays)
+                trace_mis_rays(
+                    block, reservoir_at,
+                    [&](std::uint32_t i, std::array<const GSurface*, max_cached_rays>& out) {
+                        const std::uint32_t local =
+                            (i / rs.width - block.y0) * pixel_block + i % rs.width - block.x0;
+                        for (std::uint32_t j = 0; j < counts[local]; ++j)
+                            out[j] = inputs[local][j].surface;
+                        return counts[local];
+                    },
+                    caches);
+            k = 0;
+            for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
+                scratch[i] = f.spatial_combine(coord(x, y), pass, input, inputs[k].data(),
+                                               counts[k], cached_bridge(caches[k]), rngs[k]);
+                ++k;
+            });
+            if (pass + 1u < f.params.spatial_passes)
+                test_visibility(block, scratch_at, [&](std::uint32_t i) {
+                    return f.needs_visibility_test(scratch[i], reservoirs[i]);
+                });
+        });
+        std::swap(reservoirs, scratch);
+    }
+
+    // Stage 4: the boiling filter (empties reservoirs far brighter than their neighbourhood;
+    // they stay empty in the history too).
+    void di_boiling(const DiFrame& f) {
+        const restir::ImageView<const Reservoir> input = view_of(reservoirs);
+        for_each_block([&](const PixelBlock& block) {
+            for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
+                scratch[i] = f.boiling(coord(x, y), input);
+            });
+        });
+        std::swap(reservoirs, scratch);
+    }
+
+    // Stage 5 and shading: the final visibility ray, which with visibility reuse zeroes W of an
+    // occluded sample before the reservoir becomes next frame's history.
+    void di_finish_and_shade(const DiFrame& f, Image& image) {
+        const RenderSettings& rs = r.settings_;
+        const auto reservoir_at = [this](std::uint32_t i) -> Reservoir& { return reservoirs[i]; };
+        for_each_block([&](const PixelBlock& block) {
+            test_visibility(block, reservoir_at, [&](std::uint32_t i) {
+                return f.needs_visibility_test(reservoirs[i]);
+            });
+            for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
+                const GSurface& s = surfaces[i];
+                glm::vec3 color(0.0f);
+                if (s.valid) {
+                    const Reservoir& reservoir = reservoirs[i] =
+                        f.finish(coord(x, y), reservoirs[i], point_visibility());
+                    color = s.emitted +
+                            (rs.visibility_reuse ? unshadowed(reservoir, s) : shade(reservoir, s));
+                    if (rs.gi == GlobalIllumination::path) {
+                        restir::Pcg32 rng = restir::make_pixel_rng(i, f.frame_index, 100u, rs.seed);
+                        color += path_radiance(s, rng, false, true);
+                    }
+                }
+                image.pixels[i] = color;
+            });
+        });
+    }
+
+    // Whether the reuse passes' MIS weights trace rays (pre-traced as packets).
+    bool traces_mis_rays() const {
+        const RenderSettings& rs = r.settings_;
+        return rs.visibility_reuse && rs.mis_rays &&
+               rs.bias_correction != restir::BiasCorrection::none;
+    }
+
+    // One ReSTIR frame: the G-buffer, then the recipe's stages, timed by phase.
+    void restir_frame(std::uint32_t frame, bool history, Image& image, FrameTimings& t) {
+        auto start = Clock::now();
+        std::swap(surfaces, previous_surfaces);
+        for_each_block([&](const PixelBlock& block) { trace_primary(block, frame); });
+        t.primary = milliseconds_since(start);
+        start = Clock::now();
+        fill_tiles(frame);
+        t.tiles = milliseconds_since(start);
+
+        std::swap(reservoirs, previous_reservoirs); // last frame's result becomes the history
+        const DiFrame f = di_frame(frame, history);
+        start = Clock::now();
+        di_initial(f);
+        t.candidates = milliseconds_since(start);
+        start = Clock::now();
+        if (f.has_history())
+            di_temporal(f);
+        t.temporal = milliseconds_since(start);
+        start = Clock::now();
+        for (std::uint32_t pass = 0; pass < f.params.spatial_passes; ++pass)
+            di_spatial(f, pass);
+        if (f.params.boiling_filter)
+            di_boiling(f);
+        t.spatial = milliseconds_since(start);
+        start = Clock::now();
+        di_finish_and_shade(f, image);
+        t.shading = milliseconds_since(start);
+    }
+
     // --- Path tracing ----------------------------------------------------------------------
     // Emitters by power with MIS against cosine sampling; VPLs by power (no MIS: delta).
     glm::vec3 emitter_nee(const GSurface& s, restir::Pcg32& rng) const {
@@ -668,216 +908,7 @@ FrameTimings Renderer::render_frame() {
     const bool gi_path = rs.gi == GlobalIllumination::path;
 
     if (rs.method == Method::restir) {
-        // Primary rays.
-        auto start = Clock::now();
-        std::swap(im.surfaces, im.previous_surfaces);
-        im.for_each_block([&](const Impl::PixelBlock& block) { im.trace_primary(block, frame); });
-        t.primary = milliseconds_since(start);
-
-        // Initial candidates (and their visibility, for visibility reuse).
-        start = Clock::now();
-        im.fill_tiles(frame);
-        t.tiles = milliseconds_since(start);
-        start = Clock::now();
-        std::swap(im.reservoirs, im.previous_reservoirs);
-        const auto reservoir_at = [&im](std::uint32_t i) -> Reservoir& { return im.reservoirs[i]; };
-        const auto scratch_at = [&im](std::uint32_t i) -> Reservoir& { return im.scratch[i]; };
-        im.for_each_block_by_tile(frame, [&](const Impl::PixelBlock& block) {
-            im.for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
-                const GSurface& s = im.surfaces[i];
-                Reservoir& reservoir = im.reservoirs[i];
-                reservoir = Reservoir{};
-                if (!s.valid)
-                    return;
-                restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 1u, seed);
-                reservoir = im.initial_reservoir(x, y, frame, s, rng);
-            });
-            if (rs.visibility_reuse)
-                im.test_visibility(block, reservoir_at);
-        });
-        t.candidates = milliseconds_since(start);
-
-        const restir::ReuseBridge bridge{
-            [&im](const restir::LightPointSample& sample, const GSurface& s) {
-                return im.point_target(sample, s);
-            },
-            im.point_visibility()};
-        // Every reservoir that enters a reuse pass has had its sample's visibility tested at its
-        // own surface (W = 0 if occluded): the initial ones, last frame's shaded ones, and those
-        // that come out of a pass that feeds another (tested here with one ray, which spares
-        // the MIS weights of the next pass k rays).
-        restir::ReuseParams reuse{rs.bias_correction, rs.visibility_reuse, rs.mis_rays};
-        reuse.inputs_visibility_tested = true;
-        const bool retest = rs.visibility_reuse && rs.mis_rays &&
-                            rs.bias_correction != restir::BiasCorrection::none;
-        const bool mis_rays = retest; // MIS weights that trace visibility
-
-        // Temporal reuse through reprojection of this frame's surfaces into the last camera.
-        start = Clock::now();
-        if (frame > 0 && !new_vpl_set) {
-            restir::TemporalParams params = restir::default_temporal_params();
-            params.reuse = reuse;
-            params.history_cap_multiplier = rs.history_cap;
-            params.permutation_sampling = rs.permutation_sampling;
-            params.frame_index = frame;
-            const restir::ImageView<const Reservoir> previous{im.previous_reservoirs.data(),
-                                                              rs.width, rs.height};
-            const restir::ImageView<const GSurface> previous_surfaces{im.previous_surfaces.data(),
-                                                                      rs.width, rs.height};
-            const auto reproject = [&im, &rs](restir::PixelCoord p) {
-                const GSurface& s = im.surfaces[static_cast<std::size_t>(p.x) +
-                                                static_cast<std::size_t>(p.y) * rs.width];
-                glm::vec2 q;
-                if (!im.previous_camera.project(s.position, q))
-                    return restir::PixelCoord{-1, -1};
-                return restir::PixelCoord{static_cast<std::int32_t>(std::floor(q.x)),
-                                          static_cast<std::int32_t>(std::floor(q.y))};
-            };
-            im.for_each_block([&](const Impl::PixelBlock& block) {
-                // The MIS ray towards the history's surface, traced ahead as packets.
-                std::array<Impl::MisRayCache, Impl::pixel_block * Impl::pixel_block> caches;
-                if (mis_rays)
-                    im.trace_mis_rays(
-                        block, reservoir_at,
-                        [&](std::uint32_t i,
-                            std::array<const GSurface*, Impl::max_cached_rays>& out) {
-                            const restir::PixelCoord p{static_cast<std::int32_t>(i % rs.width),
-                                                       static_cast<std::int32_t>(i / rs.width)};
-                            const auto history =
-                                restir::reusable_input(restir::history_pixel(reproject(p), params),
-                                                       im.surfaces[i], previous, previous_surfaces,
-                                                       params.similarity, bridge.material_test);
-                            out[0] = history.surface;
-                            return history.surface != nullptr ? 1u : 0u;
-                        },
-                        caches);
-                std::uint32_t k = 0;
-                im.for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
-                    restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 2u, seed);
-                    const Impl::MisRayCache& cache = caches[k++];
-                    const auto cached = im.cached_bridge(cache);
-                    im.scratch[i] = restir::temporal_resample(
-                        {static_cast<std::int32_t>(x), static_cast<std::int32_t>(y)},
-                        im.reservoirs[i], im.surfaces[i], previous, previous_surfaces, reproject,
-                        params, cached, rng);
-                });
-                // A pixel that kept its own sample needs no ray: that was tested above.
-                if (retest && rs.spatial_passes > 0)
-                    im.test_visibility(block, scratch_at, [&](std::uint32_t i) {
-                        return !Impl::same_sample(im.scratch[i].sample, im.reservoirs[i].sample);
-                    });
-            });
-            std::swap(im.reservoirs, im.scratch);
-        }
-        t.temporal = milliseconds_since(start);
-
-        // Spatial passes.
-        start = Clock::now();
-        const restir::ImageView<const GSurface> surface_view{im.surfaces.data(), rs.width,
-                                                             rs.height};
-        restir::SpatialParams spatial = restir::default_spatial_params();
-        spatial.reuse = reuse;
-        spatial.neighbour_count = rs.neighbours;
-        spatial.radius = rs.radius > 0.0f
-                             ? rs.radius
-                             : std::max(3.0f, 30.0f * static_cast<float>(rs.height) / 1080.0f);
-        for (std::uint32_t pass = 0; pass < rs.spatial_passes; ++pass) {
-            const restir::ImageView<const Reservoir> input{im.reservoirs.data(), rs.width,
-                                                           rs.height};
-            im.for_each_block([&](const Impl::PixelBlock& block) {
-                // spatial_resample in two steps, so that the MIS rays of the whole block go out
-                // as packets in between: gather each pixel's neighbours, trace the rays from
-                // its own sample towards them, then combine (restir::combine_reservoirs) with a
-                // bridge that answers those rays, and their targets, from the cache.
-                constexpr std::uint32_t pixels = Impl::pixel_block * Impl::pixel_block;
-                using Input = restir::ReuseInput<restir::LightPointSample, GSurface>;
-                std::array<std::array<Input, restir::max_reuse_inputs>, pixels> inputs;
-                std::array<std::uint32_t, pixels> counts{};
-                std::array<restir::Pcg32, pixels> rngs;
-                std::uint32_t k = 0;
-                im.for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
-                    rngs[k] = restir::make_pixel_rng(i, frame, 3u + pass, seed);
-                    counts[k] =
-                        im.surfaces[i].valid
-                            ? restir::gather_spatial_neighbours(
-                                  {static_cast<std::int32_t>(x), static_cast<std::int32_t>(y)},
-                                  im.surfaces[i], input, surface_view, spatial, im.offsets,
-                                  bridge.material_test, rngs[k], inputs[k].data())
-                            : 0u;
-                    ++k;
-                });
-                std::array<Impl::MisRayCache, pixels> caches;
-                if (mis_rays)
-                    im.trace_mis_rays(
-                        block, reservoir_at,
-                        [&](std::uint32_t i,
-                            std::array<const GSurface*, Impl::max_cached_rays>& out) {
-                            const std::uint32_t local =
-                                (i / rs.width - block.y0) * Impl::pixel_block + i % rs.width -
-                                block.x0;
-                            for (std::uint32_t j = 0; j < counts[local]; ++j)
-                                out[j] = inputs[local][j].surface;
-                            return counts[local];
-                        },
-                        caches);
-                k = 0;
-                im.for_each_pixel_of(block, [&](std::uint32_t, std::uint32_t, std::uint32_t i) {
-                    const Impl::MisRayCache& cache = caches[k];
-                    const auto cached = im.cached_bridge(cache);
-                    im.scratch[i] = im.surfaces[i].valid
-                                        ? restir::combine_reservoirs(
-                                              input[{static_cast<std::int32_t>(i % rs.width),
-                                                     static_cast<std::int32_t>(i / rs.width)}],
-                                              im.surfaces[i], inputs[k].data(), counts[k],
-                                              spatial.reuse, cached, rngs[k])
-                                        : im.reservoirs[i];
-                    ++k;
-                });
-                if (retest && pass + 1u < rs.spatial_passes)
-                    im.test_visibility(block, scratch_at);
-            });
-            std::swap(im.reservoirs, im.scratch);
-        }
-        // Boiling filter: empties reservoirs far brighter than their neighbourhood; they stay
-        // empty in the history too.
-        if (rs.boiling_threshold > 0.0f) {
-            const restir::ImageView<const Reservoir> input{im.reservoirs.data(), rs.width,
-                                                           rs.height};
-            restir::BoilingFilterParams boiling = restir::default_boiling_filter_params();
-            boiling.threshold = rs.boiling_threshold;
-            im.for_each_block([&](const Impl::PixelBlock& block) {
-                im.for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
-                    im.scratch[i] = restir::boiling_filter(
-                        {static_cast<std::int32_t>(x), static_cast<std::int32_t>(y)}, input,
-                        boiling);
-                });
-            });
-            std::swap(im.reservoirs, im.scratch);
-        }
-        t.spatial = milliseconds_since(start);
-
-        // Shading: the final visibility ray, which with visibility reuse also zeroes W of an
-        // occluded sample before the reservoir becomes next frame's history.
-        start = Clock::now();
-        im.for_each_block([&](const Impl::PixelBlock& block) {
-            if (rs.visibility_reuse)
-                im.test_visibility(block, reservoir_at); // W = 0 where occluded
-            im.for_each_pixel_of(block, [&](std::uint32_t, std::uint32_t, std::uint32_t i) {
-                const GSurface& s = im.surfaces[i];
-                glm::vec3 color(0.0f);
-                if (s.valid) {
-                    const Reservoir& reservoir = im.reservoirs[i];
-                    color = s.emitted + (rs.visibility_reuse ? im.unshadowed(reservoir, s)
-                                                             : im.shade(reservoir, s));
-                    if (gi_path) {
-                        restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 100u, seed);
-                        color += im.path_radiance(s, rng, false, true);
-                    }
-                }
-                frame_image_.pixels[i] = color;
-            });
-        });
-        t.shading = milliseconds_since(start);
+        im.restir_frame(frame, !new_vpl_set, frame_image_, t);
     } else {
         // uniform, ris, reference: independent samples, spp per frame.
         std::fill(frame_image_.pixels.begin(), frame_image_.pixels.end(), glm::vec3(0.0f));

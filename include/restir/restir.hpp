@@ -19,6 +19,7 @@
 #include "restir/light/unified_light_set.hpp"
 #include "restir/reuse/bias_correction.hpp"
 #include "restir/reuse/boiling_filter.hpp"
+#include "restir/reuse/di_frame.hpp"
 #include "restir/reuse/image_view.hpp"
 #include "restir/reuse/neighbor_offsets.hpp"
 #include "restir/reuse/reuse_input.hpp"

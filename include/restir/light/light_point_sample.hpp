@@ -60,6 +60,16 @@ struct alignas(16) LightPointSample {
     /// The falloff of a delta light: r^2 of Yuksel's (> 0), -d_min^2 of the clamped inverse
     /// square (< 0), or 0 for the exact inverse square and for area lights.
     float falloff = 0.0f;
+
+    /// The same light and point (the frame recipe skips retesting a sample it kept).
+    RESTIR_HOST_DEVICE friend constexpr bool operator==(const LightPointSample& a,
+                                                        const LightPointSample& b) noexcept {
+        return a.light_id == b.light_id && a.position.x == b.position.x &&
+               a.position.y == b.position.y && a.position.z == b.position.z &&
+               a.normal.x == b.normal.x && a.normal.y == b.normal.y && a.normal.z == b.normal.z &&
+               a.intensity.x == b.intensity.x && a.intensity.y == b.intensity.y &&
+               a.intensity.z == b.intensity.z && a.falloff == b.falloff;
+    }
 };
 
 static_assert(std::is_trivially_copyable_v<LightPointSample>);

@@ -19,6 +19,12 @@ namespace restir {
 struct LightSampleRef {
     std::uint32_t light_id = 0u;
     glm::vec2 uv{0.0f}; ///< Primary sample-space point on the light, in [0, 1)^2.
+
+    /// The same light and point (the frame recipe skips retesting a sample it kept).
+    RESTIR_HOST_DEVICE friend constexpr bool operator==(const LightSampleRef& a,
+                                                        const LightSampleRef& b) noexcept {
+        return a.light_id == b.light_id && a.uv.x == b.uv.x && a.uv.y == b.uv.y;
+    }
 };
 
 /// A point on a light, as a light set evaluates a `LightSampleRef`. Point lights and VPLs
