@@ -2,7 +2,8 @@
 // a 24 x 24 patch of the ground plane z = 0 (normal +z) lit by 48 isotropic point lights, with
 // one sphere floating between them that casts shadows. The irradiance at every texel is a
 // finite sum over the lights it sees, computed exactly. The program renders the patch with
-// RIS alone and with RIS + temporal + spatial reuse (pairwise MIS, visibility reuse), in many
+// RIS alone and with RIS + temporal + spatial reuse (pairwise MIS, visibility reuse), both
+// through the library's frame recipe (restir::run_di_frame, one call per frame), in many
 // independent runs, and checks that each estimator's image mean agrees with the exact one
 // within 4 standard errors (measured across the runs), and that reuse lowers the per-pixel
 // error.
@@ -122,46 +123,50 @@ int main() {
         return irradiance(lights, s, t);
     };
     const restir::ReuseBridge bridge{target_at, visibility};
-    const restir::NeighborOffsets offsets = restir::make_neighbor_offsets();
-    restir::SpatialParams spatial = restir::default_spatial_params();
-    spatial.radius = 4.0f;
-    const restir::ImageView<const Texel> gbuffer{texels.data(), size, size};
+    restir::DiFrameParams reuse_params = restir::default_di_frame_params();
+    reuse_params.spatial.radius = 4.0f;
     const auto same_pixel = [](restir::PixelCoord p) { return p; }; // a still camera
+    const auto for_each_pixel = [](const auto& stage) { // a parallel loop in a real renderer
+        for (std::uint32_t i = 0; i < pixels; ++i)
+            stage(restir::PixelCoord{int(i % size), int(i / size)});
+    };
 
     // One run of `frames` frames; returns the last frame's image.
     using Reservoir = restir::Reservoir<restir::LightSampleRef>;
     const auto run = [&](std::uint64_t seed, std::uint32_t frames, bool reuse) {
-        std::vector<Reservoir> previous(pixels), current(pixels), next(pixels);
+        std::vector<Reservoir> history(pixels), out(pixels), scratch(pixels);
         std::vector<double> image(pixels);
-        for (std::uint32_t frame = 0; frame < frames; ++frame) {
-            restir::TemporalParams temporal = restir::default_temporal_params();
-            temporal.frame_index = frame;
-            for (std::uint32_t i = 0; i < pixels; ++i) { // initial candidates, temporal reuse
-                Random rng{seed * 0x100000001b3ull + frame * 7919u * pixels + i};
-                Reservoir r = restir::resample_ris(
-                    rng, 8u, [&](Random& g) { return restir::draw_light_candidate(sampler, g); },
-                    [&](const restir::LightSampleRef& s) { return target_at(s, texels[i]); });
-                restir::apply_visibility(r, texels[i], visibility);
-                if (reuse && frame > 0) // frame 0 (and a camera cut) has no history
-                    r = restir::temporal_resample(
-                        {int(i % size), int(i / size)}, r, texels[i],
-                        restir::ImageView<const Reservoir>{previous.data(), size, size}, gbuffer,
-                        same_pixel, temporal, bridge, rng);
-                current[i] = r;
+        restir::DiFrame<restir::LightSampleRef, Texel, decltype(same_pixel)> frame{
+            .params = reuse_params,
+            .surfaces = {texels.data(), size, size},
+            .reproject = same_pixel};
+        frame.params.temporal_reuse = reuse;
+        frame.params.spatial_passes = reuse ? 1u : 0u;
+        for (std::uint32_t f = 0; f < frames; ++f) {
+            frame.frame_index = f;
+            if (f > 0) { // frame 0 (and a camera cut) has no history
+                std::swap(history, out);
+                frame.history = {history.data(), size, size};
+                frame.previous_surfaces = frame.surfaces; // a still scene
             }
-            for (std::uint32_t i = 0; i < pixels; ++i) { // spatial reuse, shading
-                Random rng{~(seed * 0x100000001b3ull + frame * 7919u * pixels + i)};
-                Reservoir r = current[i];
-                if (reuse)
-                    r = restir::spatial_resample(
-                        {int(i % size), int(i / size)},
-                        restir::ImageView<const Reservoir>{current.data(), size, size}, gbuffer,
-                        spatial, offsets, bridge, rng);
-                restir::apply_visibility(r, texels[i], visibility); // W = 0 if occluded
-                image[i] = double(target_at(r.sample, texels[i]) * r.contribution_weight);
-                next[i] = r; // next frame's history
-            }
-            std::swap(previous, next);
+            restir::run_di_frame(
+                frame, restir::ImageView<Reservoir>{out.data(), size, size},
+                restir::ImageView<Reservoir>{scratch.data(), size, size}, for_each_pixel,
+                [&](restir::PixelCoord, const Texel& texel, Random& rng) { // initial candidates
+                    return restir::resample_ris(
+                        rng, 8u,
+                        [&](Random& g) { return restir::draw_light_candidate(sampler, g); },
+                        [&](const restir::LightSampleRef& s) { return target_at(s, texel); });
+                },
+                bridge,
+                [&](restir::PixelCoord p, std::uint32_t stream) {
+                    return Random{seed * 0x100000001b3ull + (f * 7919u + stream) * pixels +
+                                  std::uint64_t(p.x + p.y * int(size))};
+                });
+        }
+        for (std::uint32_t i = 0; i < pixels; ++i) { // shading: W is 0 where occluded
+            const Reservoir& r = out[i];
+            image[i] = double(target_at(r.sample, texels[i]) * r.contribution_weight);
         }
         return image;
     };

@@ -295,7 +295,8 @@ void run_di_frame(const DiFrame<Sample, S, Reproject>& frame, ImageView<Reservoi
             auto temporal_rng = rng_for(pixel, DiStream::temporal);
             r = frame.temporal(pixel, r, bridge, temporal_rng);
         }
-        target[pixel] = last(pixel, r);
+        // Without history and further passes, stage 1 has tested the sample already.
+        target[pixel] = remaining == 1u && !frame.has_history() ? r : last(pixel, r);
     });
     // Stage 3.
     for (std::uint32_t pass = 0; pass < p.spatial_passes; ++pass) {
