@@ -626,12 +626,12 @@ struct Renderer::Impl {
             test_visibility(block, reservoir_at, [&](std::uint32_t i) {
                 return f.needs_visibility_test(reservoirs[i]);
             });
-            for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
+            for_each_pixel_of(block, [&](std::uint32_t, std::uint32_t, std::uint32_t i) {
                 const GSurface& s = surfaces[i];
                 glm::vec3 color(0.0f);
                 if (s.valid) {
-                    const Reservoir& reservoir = reservoirs[i] =
-                        f.finish(coord(x, y), reservoirs[i], point_visibility());
+                    // The recipe's `finish` with deferred visibility: the packet above.
+                    const Reservoir& reservoir = reservoirs[i];
                     color = s.emitted +
                             (rs.visibility_reuse ? unshadowed(reservoir, s) : shade(reservoir, s));
                     if (rs.gi == GlobalIllumination::path) {

@@ -198,11 +198,11 @@ struct DiFrame {
                                                         ImageView<const Reservoir<Sample>> input,
                                                         const MaterialTest& material_test, Rng& rng,
                                                         ReuseInput<Sample, S>* out) const {
-        if (!input.contains(pixel) || !surfaces.contains(pixel) ||
-            !is_valid_surface(surfaces[pixel]))
+        if (!surfaces.contains(pixel) || !is_valid_surface(surfaces[pixel]))
             return 0u;
-        return gather_spatial_neighbours(pixel, surfaces[pixel], input, surfaces, spatial_params(),
-                                         offsets, material_test, rng, out);
+        const SpatialParams spatial = spatial_params();
+        return gather_spatial_neighbours(pixel, surfaces[pixel], input, surfaces, spatial, offsets,
+                                         material_test, rng, out);
     }
 
     /// The second half of `spatial`: combines the pixel's own reservoir in `input` with the
