@@ -203,6 +203,55 @@ __global__ void reuse_kernel(const glm::vec3* light_positions, const GBufferTexe
         restir::boiling_filter({x, y}, history, restir::default_boiling_filter_params());
 }
 
+// The frame recipe as a GPU renderer runs it: one kernel per stage, the frame by value.
+using RecipeFrame = restir::DiFrame<restir::LightSampleRef, GBufferTexel, StaticCamera>;
+using RecipeReservoir = restir::Reservoir<restir::LightSampleRef>;
+
+__device__ bool recipe_pixel(const RecipeFrame& frame, restir::PixelCoord& pixel) {
+    pixel = {static_cast<std::int32_t>(blockIdx.x * blockDim.x + threadIdx.x),
+             static_cast<std::int32_t>(blockIdx.y * blockDim.y + threadIdx.y)};
+    return frame.surfaces.contains(pixel);
+}
+
+// Stages 1 and 2: initial candidates (RIS), visibility, temporal reuse.
+__global__ void recipe_initial_temporal_kernel(RecipeFrame frame, const glm::vec3* light_positions,
+                                               std::uint32_t light_count,
+                                               restir::ImageView<RecipeReservoir> out) {
+    restir::PixelCoord pixel;
+    if (!recipe_pixel(frame, pixel))
+        return;
+    const std::uint32_t index = frame.surfaces.index_of(pixel);
+    const restir::ReuseBridge bridge{SurfaceTarget{light_positions}, HeightVisibility{}};
+    restir::Pcg32 rng = restir::make_pixel_rng(index, frame.frame_index, restir::DiStream::initial);
+    const DistanceTarget target{light_positions, surface_position(frame.surfaces[pixel])};
+    RecipeReservoir r = frame.initial(
+        pixel, restir::resample_ris(rng, 32u, UniformDraw{light_count}, target), bridge.visibility);
+    rng = restir::make_pixel_rng(index, frame.frame_index, restir::DiStream::temporal);
+    out[pixel] = frame.temporal(pixel, r, bridge, rng);
+}
+
+// Stage 3: one spatial pass.
+__global__ void recipe_spatial_kernel(RecipeFrame frame, const glm::vec3* light_positions,
+                                      restir::ImageView<const RecipeReservoir> in,
+                                      restir::ImageView<RecipeReservoir> out, std::uint32_t pass) {
+    restir::PixelCoord pixel;
+    if (!recipe_pixel(frame, pixel))
+        return;
+    const restir::ReuseBridge bridge{SurfaceTarget{light_positions}, HeightVisibility{}};
+    restir::Pcg32 rng = restir::make_pixel_rng(frame.surfaces.index_of(pixel), frame.frame_index,
+                                               restir::DiStream::spatial + pass);
+    out[pixel] = frame.spatial(pixel, pass, in, bridge, rng);
+}
+
+// Stages 4 and 5: boiling filter, final visibility (the next frame's history).
+__global__ void recipe_finish_kernel(RecipeFrame frame, restir::ImageView<const RecipeReservoir> in,
+                                     restir::ImageView<RecipeReservoir> history) {
+    restir::PixelCoord pixel;
+    if (!recipe_pixel(frame, pixel))
+        return;
+    history[pixel] = frame.finish(pixel, frame.boiling(pixel, in), HeightVisibility{});
+}
+
 __global__ void ris_kernel(const glm::vec3* light_positions, std::uint32_t light_count,
                            const restir::AliasEntry* alias_entries, float* out) {
     const auto pixel = static_cast<std::uint32_t>(blockIdx.x * blockDim.x + threadIdx.x);
