@@ -156,7 +156,7 @@ int main() {
                     return restir::resample_ris(
                         rng, 8u,
                         [&](Random& g) { return restir::draw_light_candidate(sampler, g); },
-                        [&](const restir::LightSampleRef& s) { return target_at(s, texel); });
+                        target_at, texel);
                 },
                 bridge,
                 [&](restir::PixelCoord p, std::uint32_t stream) {

@@ -163,3 +163,32 @@ TEST(RisMis, TechniquesThatMissPartOfTheSupportAreBiased) {
 }
 
 } // namespace
+
+namespace {
+
+// The reuse passes' two-argument target at a surface selects exactly what the same target bound
+// to that surface selects.
+struct Height {
+    float y = 0.0f;
+};
+[[maybe_unused]] glm::vec3 surface_position(const Height& h) { return {0.0f, h.y, 0.0f}; }
+[[maybe_unused]] glm::vec3 surface_normal(const Height&) { return {0.0f, 1.0f, 0.0f}; }
+[[maybe_unused]] float surface_depth(const Height&) { return 1.0f; }
+[[maybe_unused]] bool is_valid_surface(const Height&) { return true; }
+
+TEST(Ris, TargetAtASurfaceEqualsTheBoundTarget) {
+    const auto target_at = [](float x, const Height& h) { return 1.0f + x * h.y; };
+    for (std::uint32_t seed = 0; seed < 100; ++seed) {
+        const Height h{0.1f * static_cast<float>(seed)};
+        Pcg32 a = restir::make_pixel_rng(seed, 0u, 0u);
+        Pcg32 b = a;
+        const auto bound =
+            restir::resample_ris(a, 8u, draw_uniform, [&](float x) { return target_at(x, h); });
+        const auto at_surface = restir::resample_ris(b, 8u, draw_uniform, target_at, h);
+        EXPECT_EQ(bound.sample, at_surface.sample);
+        EXPECT_EQ(bound.contribution_weight, at_surface.contribution_weight);
+        EXPECT_EQ(bound.candidate_count, at_surface.candidate_count);
+    }
+}
+
+} // namespace

@@ -3,6 +3,7 @@
 /// Alg. 3), from one source distribution or from several combined by the balance heuristic.
 #pragma once
 
+#include "restir/concepts.hpp"
 #include "restir/config.hpp"
 #include "restir/core/math.hpp"
 #include "restir/core/reservoir.hpp"
@@ -43,6 +44,19 @@ RESTIR_HOST_DEVICE auto resample_ris(Rng& rng, std::uint32_t candidate_count, Dr
     }
     reservoir.finalize();
     return reservoir;
+}
+
+/// `resample_ris` with the reuse passes' form of the target, `target(sample, surface)`
+/// (`TargetFunction`), evaluated at `surface`: one p-hat serves the initial candidates and every
+/// reuse pass.
+template <UniformRng Rng, std::invocable<Rng&> Draw, class Target, class SurfaceT>
+requires TargetFunction<
+    Target, std::remove_cvref_t<decltype(std::declval<Draw&>()(std::declval<Rng&>()).sample)>,
+    SurfaceT>
+    RESTIR_HOST_DEVICE auto resample_ris(Rng& rng, std::uint32_t candidate_count, Draw&& draw,
+                                         const Target& target, const SurfaceT& surface) {
+    return resample_ris(rng, candidate_count, draw,
+                        [&](const auto& sample) { return target(sample, surface); });
 }
 
 /// One sampling technique of multiple-importance RIS: `candidate_count` candidates drawn
