@@ -531,21 +531,32 @@ struct Renderer::Impl {
         const auto scratch_at = [this](std::uint32_t i) -> Reservoir& { return scratch[i]; };
         const bool mis_rays = traces_mis_rays();
         for_each_block([&](const PixelBlock& block) {
+            // Each pixel's history looked up once: its MIS ray is traced ahead, then combined.
+            std::array<restir::ReuseInput<restir::LightPointSample, GSurface>,
+                       pixel_block * pixel_block>
+                inputs;
+            std::uint32_t k = 0;
+            for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t) {
+                inputs[k++] = f.temporal_input(coord(x, y));
+            });
             std::array<MisRayCache, pixel_block * pixel_block> caches;
             if (mis_rays)
                 trace_mis_rays(
                     block, reservoir_at,
                     [&](std::uint32_t i, std::array<const GSurface*, max_cached_rays>& out) {
-                        out[0] = f.temporal_input(coord(i % rs.width, i / rs.width)).surface;
+                        const std::uint32_t local =
+                            (i / rs.width - block.y0) * pixel_block + i % rs.width - block.x0;
+                        out[0] = inputs[local].surface;
                         return out[0] != nullptr ? 1u : 0u;
                     },
                     caches);
-            std::uint32_t k = 0;
+            k = 0;
             for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
                 restir::Pcg32 rng =
                     restir::make_pixel_rng(i, f.frame_index, restir::DiStream::temporal, rs.seed);
-                scratch[i] =
-                    f.temporal(coord(x, y), reservoirs[i], cached_bridge(caches[k++]), rng);
+                scratch[i] = f.temporal_combine(coord(x, y), reservoirs[i], inputs[k],
+                                                cached_bridge(caches[k]), rng);
+                ++k;
             });
             if (f.params.spatial_passes > 0)
                 test_visibility(block, scratch_at, [&](std::uint32_t i) {
@@ -564,6 +575,7 @@ struct Renderer::Impl {
         const auto reservoir_at = [this](std::uint32_t i) -> Reservoir& { return reservoirs[i]; };
         const auto scratch_at = [this](std::uint32_t i) -> Reservoir& { return scratch[i]; };
         const restir::ImageView<const Reservoir> input = view_of(reservoirs);
+        const restir::SpatialParams spatial = f.spatial_params();
         const bool mis_rays = traces_mis_rays();
         for_each_block([&](const PixelBlock& block) {
             constexpr std::uint32_t pixels = pixel_block * pixel_block;
@@ -575,8 +587,13 @@ struct Renderer::Impl {
             for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
                 rngs[k] = restir::make_pixel_rng(i, f.frame_index, restir::DiStream::spatial + pass,
                                                  rs.seed);
-                counts[k] = f.spatial_neighbours(coord(x, y), input, restir::AnyMaterial{}, rngs[k],
-                                                 inputs[k].data());
+                // DiFrame::spatial_neighbours with the pass's settings hoisted out of the loop
+                // (through the extra call, GCC stopped inlining the neighbour test: 4 % slower).
+                counts[k] = surfaces[i].valid
+                                ? restir::gather_spatial_neighbours(
+                                      coord(x, y), surfaces[i], input, f.surfaces, spatial,
+                                      f.offsets, restir::AnyMaterial{}, rngs[k], inputs[k].data())
+                                : 0u;
                 ++k;
             });
             std::array<MisRayCache, pixels> caches;

@@ -155,18 +155,12 @@ struct DiFrame {
         temporal(PixelCoord pixel, const Reservoir<Sample>& current,
                  const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng)
     const {
-        if (!has_history())
-            return current;
-        Reservoir<Sample> result =
-            temporal_resample(pixel, current, surfaces[pixel], history, previous_surfaces,
-                              reproject, temporal_params(), bridge, rng);
-        if (params.spatial_passes > 0u)
-            retest(pixel, result, current, bridge.visibility);
-        return result;
+        return temporal_combine(pixel, current, temporal_input(pixel, bridge.material_test), bridge,
+                                rng);
     }
 
-    /// The history input that stage 2 of `pixel` reuses (null pointers when none), for
-    /// renderers that trace its MIS ray ahead of the pass.
+    /// The first half of `temporal`: the history input that stage 2 of `pixel` reuses (null
+    /// pointers when none), for renderers that trace its MIS ray ahead of `temporal_combine`.
     template <class MaterialTest = AnyMaterial>
     RESTIR_HOST_DEVICE ReuseInput<Sample, S>
     temporal_input(PixelCoord pixel, const MaterialTest& material_test = {}) const {
@@ -175,6 +169,23 @@ struct DiFrame {
         const TemporalParams t = temporal_params();
         return reusable_input(history_pixel(reproject(pixel), t), surfaces[pixel], history,
                               previous_surfaces, t.similarity, material_test);
+    }
+
+    /// The second half of `temporal`: combines `current` with the `input` that
+    /// `temporal_input` found.
+    template <class Target, class Visibility, class MaterialTest, UniformRng Rng>
+    requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
+        RESTIR_HOST_DEVICE Reservoir<Sample>
+        temporal_combine(PixelCoord pixel, const Reservoir<Sample>& current,
+                         ReuseInput<Sample, S> input,
+                         const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng)
+    const {
+        // One named result, returned once, so that it is built in place.
+        Reservoir<Sample> result = restir::temporal_combine(current, surfaces[pixel], input,
+                                                            temporal_params(), bridge, rng);
+        if (input.reservoir != nullptr && params.spatial_passes > 0u)
+            retest(pixel, result, current, bridge.visibility);
+        return result;
     }
 
     /// Stage 3, pass `pass`: the pixel's reservoir in `input` (the whole output of the stage
@@ -215,16 +226,17 @@ struct DiFrame {
                         const ReuseInput<Sample, S>* neighbours, std::uint32_t count,
                         const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng)
     const {
-        RESTIR_ASSERT(input.contains(pixel) && surfaces.contains(pixel));
-        if (!input.contains(pixel) || !surfaces.contains(pixel))
-            return Reservoir<Sample>{};
-        const Reservoir<Sample>& own = input[pixel];
-        if (!is_valid_surface(surfaces[pixel]))
-            return own;
-        Reservoir<Sample> result = combine_reservoirs(own, surfaces[pixel], neighbours, count,
-                                                      spatial_params().reuse, bridge, rng);
-        if (pass + 1u < params.spatial_passes)
-            retest(pixel, result, own, bridge.visibility);
+        const bool inside = input.contains(pixel) && surfaces.contains(pixel);
+        RESTIR_ASSERT(inside);
+        const bool combines = inside && is_valid_surface(surfaces[pixel]);
+        // One named result, returned once (see `temporal_combine`).
+        Reservoir<Sample> result =
+            combines ? combine_reservoirs(input[pixel], surfaces[pixel], neighbours, count,
+                                          spatial_params().reuse, bridge, rng)
+            : inside ? input[pixel]
+                     : Reservoir<Sample>{};
+        if (combines && pass + 1u < params.spatial_passes)
+            retest(pixel, result, input[pixel], bridge.visibility);
         return result;
     }
 

@@ -83,6 +83,25 @@ RESTIR_HOST_DEVICE constexpr Reservoir<Sample> capped_history(Reservoir<Sample> 
     return history;
 }
 
+/// The second half of `temporal_resample`: `current` (finalised, for `surface`) combined with
+/// the history `input` that `reusable_input` found for it, its M capped; `current` unchanged when
+/// `input` is null. For renderers that look the history up ahead of the pass (to trace its MIS
+/// ray in a batch) and should not look it up twice.
+template <class Sample, Surface S, class Target, class Visibility, class MaterialTest,
+          UniformRng Rng>
+requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
+    RESTIR_HOST_DEVICE Reservoir<Sample>
+    temporal_combine(const Reservoir<Sample>& current, const S& surface,
+                     ReuseInput<Sample, S> input, const TemporalParams& params,
+                     const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng) {
+    if (input.reservoir == nullptr)
+        return current;
+    const Reservoir<Sample> history =
+        capped_history(*input.reservoir, current.candidate_count, params);
+    input.reservoir = &history;
+    return combine_reservoirs(current, surface, &input, 1u, params.reuse, bridge, rng);
+}
+
 /// Temporal resampling of one pixel. `current` is the pixel's finalised reservoir for this
 /// frame (initial candidates, possibly visibility-tested) computed for `surface`;
 /// `previous_reservoirs` and `previous_surfaces` are last frame's buffers. Returns the
@@ -99,15 +118,11 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
                       const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng) {
     if (!is_valid_surface(surface))
         return current;
-    ReuseInput<Sample, S> input =
-        reusable_input(history_pixel(reproject(pixel), params), surface, previous_reservoirs,
-                       previous_surfaces, params.similarity, bridge.material_test);
-    if (input.reservoir == nullptr)
-        return current;
-    const Reservoir<Sample> history =
-        capped_history(*input.reservoir, current.candidate_count, params);
-    input.reservoir = &history;
-    return combine_reservoirs(current, surface, &input, 1u, params.reuse, bridge, rng);
+    return temporal_combine(current, surface,
+                            reusable_input(history_pixel(reproject(pixel), params), surface,
+                                           previous_reservoirs, previous_surfaces,
+                                           params.similarity, bridge.material_test),
+                            params, bridge, rng);
 }
 
 } // namespace restir
