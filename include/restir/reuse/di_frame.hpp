@@ -98,9 +98,10 @@ struct DiFrame {
                previous_surfaces.data != nullptr;
     }
 
-    /// The temporal pass's settings as the recipe runs it. Every reservoir that enters a pass
-    /// has been tested at its own surface under visibility reuse (stages 1 and 5 (`initial`,
-    /// `finish`), and the retests between passes), which spares the MIS weights k rays.
+    /// The temporal pass's settings as the recipe runs it. Under visibility reuse every
+    /// reservoir that enters a pass has been tested at its own surface (by `initial`, by
+    /// `finish` for the history, and by the retests between passes), which spares the MIS
+    /// weights one ray per input.
     RESTIR_HOST_DEVICE constexpr TemporalParams temporal_params() const noexcept {
         TemporalParams t = params.temporal;
         t.reuse = params.reuse;
@@ -148,7 +149,7 @@ struct DiFrame {
     }
 
     /// Stage 2: `current` (stage 1's result) combined with the history; `current` unchanged
-    /// without history. One uniform number per input, two with permutation sampling off.
+    /// without history. Draws one uniform number per input that takes part.
     template <class Target, class Visibility, class MaterialTest, UniformRng Rng>
     requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
         RESTIR_HOST_DEVICE Reservoir<Sample>
@@ -181,9 +182,12 @@ struct DiFrame {
                          const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng)
     const {
         // One named result, returned once, so that it is built in place.
-        Reservoir<Sample> result = restir::temporal_combine(current, surfaces[pixel], input,
-                                                            temporal_params(), bridge, rng);
-        if (input.reservoir != nullptr && params.spatial_passes > 0u)
+        const bool reuses = input.reservoir != nullptr;
+        Reservoir<Sample> result = reuses
+                                       ? restir::temporal_combine(current, surfaces[pixel], input,
+                                                                  temporal_params(), bridge, rng)
+                                       : current;
+        if (reuses && params.spatial_passes > 0u)
             retest(pixel, result, current, bridge.visibility);
         return result;
     }
