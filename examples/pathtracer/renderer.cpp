@@ -264,7 +264,8 @@ struct Renderer::Impl {
         return a.light_id == b.light_id && a.position == b.position && a.normal == b.normal;
     }
     // Fills `caches` (one per pixel of the block, in block order) for the canonical samples
-    // `canonical(i)` and the neighbour surfaces `neighbours(i, out) -> count`, and traces them.
+    // `canonical(i)` (i: the pixel's index in the image) and the neighbour surfaces
+    // `neighbours(k, out) -> count` (k: the pixel's place in the block), and traces them.
     template <class CanonicalAt, class NeighboursOf>
     void trace_mis_rays(const PixelBlock& block, CanonicalAt&& canonical, NeighboursOf&& neighbours,
                         std::span<MisRayCache> caches) {
@@ -278,14 +279,15 @@ struct Renderer::Impl {
         const restir::LightPointVisibility<EmbreeScene> visibility = point_visibility();
         std::size_t n = 0, k = 0;
         for_each_pixel_of(block, [&](std::uint32_t, std::uint32_t, std::uint32_t i) {
-            MisRayCache& cache = caches[k++];
+            const auto local = static_cast<std::uint32_t>(k++);
+            MisRayCache& cache = caches[local];
             cache.count = 0;
             const Reservoir& own = canonical(i);
             if (!surfaces[i].valid || !own.has_sample())
                 return;
             cache.sample = own.sample;
             std::array<const GSurface*, max_cached_rays> there{};
-            const std::uint32_t count = neighbours(i, there);
+            const std::uint32_t count = neighbours(local, there);
             for (std::uint32_t j = 0; j < count; ++j) {
                 const float target = point_target(own.sample, *there[j]);
                 cache.surfaces[cache.count] = there[j];
@@ -543,9 +545,7 @@ struct Renderer::Impl {
             if (mis_rays)
                 trace_mis_rays(
                     block, reservoir_at,
-                    [&](std::uint32_t i, std::array<const GSurface*, max_cached_rays>& out) {
-                        const std::uint32_t local =
-                            (i / rs.width - block.y0) * pixel_block + i % rs.width - block.x0;
+                    [&](std::uint32_t local, std::array<const GSurface*, max_cached_rays>& out) {
                         out[0] = inputs[local].surface;
                         return out[0] != nullptr ? 1u : 0u;
                     },
@@ -600,9 +600,7 @@ struct Renderer::Impl {
             if (mis_rays)
                 trace_mis_rays(
                     block, reservoir_at,
-                    [&](std::uint32_t i, std::array<const GSurface*, max_cached_rays>& out) {
-                        const std::uint32_t local =
-                            (i / rs.width - block.y0) * pixel_block + i % rs.width - block.x0;
+                    [&](std::uint32_t local, std::array<const GSurface*, max_cached_rays>& out) {
                         for (std::uint32_t j = 0; j < counts[local]; ++j)
                             out[j] = inputs[local][j].surface;
                         return counts[local];

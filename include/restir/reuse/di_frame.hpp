@@ -141,12 +141,8 @@ struct DiFrame {
     /// with W = 0 when its sample is occluded, under visibility reuse.
     template <class Visibility>
     requires VisibilityFunction<Visibility, Sample, S> RESTIR_HOST_DEVICE Reservoir<Sample>
-    initial(PixelCoord pixel, Reservoir<Sample> candidates, const Visibility& visible)
-    const {
-        if (!params.deferred_visibility && needs_visibility_test(candidates))
-            apply_visibility(candidates, surfaces[pixel], visible);
-        return candidates;
-    }
+    initial(PixelCoord pixel, const Reservoir<Sample>& candidates, const Visibility& visible)
+    const { return tested(pixel, candidates, visible); }
 
     /// Stage 2: `current` (stage 1's result) combined with the history; `current` unchanged
     /// without history. Draws one uniform number per input that takes part.
@@ -257,14 +253,18 @@ struct DiFrame {
     /// shade f(y) W only where the sample is visible.
     template <class Visibility>
     requires VisibilityFunction<Visibility, Sample, S> RESTIR_HOST_DEVICE Reservoir<Sample>
-    finish(PixelCoord pixel, Reservoir<Sample> reservoir, const Visibility& visible)
-    const {
+    finish(PixelCoord pixel, const Reservoir<Sample>& reservoir, const Visibility& visible)
+    const { return tested(pixel, reservoir, visible); }
+
+private:
+    // Stages 1 and 5: `reservoir` with W = 0 when occluded, under visibility reuse.
+    template <class Visibility>
+    RESTIR_HOST_DEVICE Reservoir<Sample> tested(PixelCoord pixel, Reservoir<Sample> reservoir,
+                                                const Visibility& visible) const {
         if (!params.deferred_visibility && needs_visibility_test(reservoir))
             apply_visibility(reservoir, surfaces[pixel], visible);
         return reservoir;
     }
-
-private:
     RESTIR_HOST_DEVICE constexpr bool retests_between_passes() const noexcept {
         return params.reuse.visibility_reuse && params.reuse.trace_mis_visibility &&
                params.reuse.bias_correction != BiasCorrection::none;
