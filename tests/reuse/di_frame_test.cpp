@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace {
@@ -23,6 +24,7 @@ using restir::Reservoir;
 using restir::test::RunningStats;
 
 using Frame = restir::DiFrame<LightId, Patch, Reproject>;
+static_assert(std::is_trivially_copyable_v<Frame>, "a kernel takes the frame by value");
 using Image = std::vector<Reservoir<LightId>>;
 
 // Visibility that counts its rays.
