@@ -514,10 +514,9 @@ struct Renderer::Impl {
                     return;
                 restir::Pcg32 rng = restir::make_pixel_rng(
                     i, f.frame_index, restir::DiStream::initial, r.settings_.seed);
-                reservoirs[i] =
-                    f.initial(coord(x, y), initial_reservoir(x, y, f.frame_index, surfaces[i], rng),
-                              point_visibility());
+                reservoirs[i] = initial_reservoir(x, y, f.frame_index, surfaces[i], rng);
             });
+            // The recipe's `initial` with deferred visibility: this packet.
             test_visibility(block, reservoir_at, [&](std::uint32_t i) {
                 return f.needs_visibility_test(reservoirs[i]);
             });
