@@ -189,21 +189,26 @@ struct DiFrame {
     }
 
     /// Stage 3, pass `pass`: the pixel's reservoir in `input` (the whole output of the stage
-    /// before) combined with its neighbours'. Write the result to another buffer.
+    /// before) combined with its neighbours', streamed (`SpatialNeighbours`: no array of
+    /// inputs). Write the result to another buffer.
     template <class Target, class Visibility, class MaterialTest, UniformRng Rng>
     requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
         RESTIR_HOST_DEVICE Reservoir<Sample>
         spatial(PixelCoord pixel, std::uint32_t pass, ImageView<const Reservoir<Sample>> input,
                 const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng)
     const {
-        ReuseInput<Sample, S> neighbours[max_reuse_inputs];
-        const std::uint32_t count =
-            spatial_neighbours(pixel, input, bridge.material_test, rng, neighbours);
-        return spatial_combine(pixel, pass, input, neighbours, count, bridge, rng);
+        if (!combines_spatially(pixel, input))
+            return kept(pixel, input);
+        const SpatialParams spatial = spatial_params();
+        return spatial_result(pixel, pass, input,
+                              find_spatial_neighbours(pixel, surfaces[pixel], input, surfaces,
+                                                      spatial, offsets, bridge.material_test, rng),
+                              bridge, rng);
     }
 
-    /// The first half of `spatial`: the neighbours the pass reuses (for renderers that trace
-    /// their MIS rays ahead of `spatial_combine`, which takes them with the same `rng`).
+    /// The first half of `spatial`, for renderers that trace a pass's MIS rays ahead of it:
+    /// the neighbours it reuses, written to `out` (at most max_reuse_inputs - 1); returns how
+    /// many. `spatial_combine` takes them with the same `rng`.
     template <class MaterialTest, UniformRng Rng>
     RESTIR_HOST_DEVICE std::uint32_t spatial_neighbours(PixelCoord pixel,
                                                         ImageView<const Reservoir<Sample>> input,
@@ -226,17 +231,12 @@ struct DiFrame {
                         const ReuseInput<Sample, S>* neighbours, std::uint32_t count,
                         const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng)
     const {
-        const bool inside = input.contains(pixel) && surfaces.contains(pixel);
-        RESTIR_ASSERT(inside);
-        const bool combines = inside && is_valid_surface(surfaces[pixel]);
         // One named result, returned once (see `temporal_combine`).
+        const bool combines = combines_spatially(pixel, input);
         Reservoir<Sample> result =
-            combines ? combine_reservoirs(input[pixel], surfaces[pixel], neighbours, count,
-                                          spatial_params().reuse, bridge, rng)
-            : inside ? input[pixel]
-                     : Reservoir<Sample>{};
-        if (combines && pass + 1u < params.spatial_passes)
-            retest(pixel, result, input[pixel], bridge.visibility);
+            combines ? spatial_result(pixel, pass, input,
+                                      ReuseInputSpan<Sample, S>{neighbours, count}, bridge, rng)
+                     : kept(pixel, input);
         return result;
     }
 
@@ -257,6 +257,30 @@ struct DiFrame {
     const { return tested(pixel, reservoir, visible); }
 
 private:
+    // Whether a spatial pass combines at `pixel` (inside the views, a valid surface); a pixel
+    // that does not keeps its reservoir (`kept`: empty outside the views).
+    RESTIR_HOST_DEVICE bool combines_spatially(PixelCoord pixel,
+                                               ImageView<const Reservoir<Sample>> input) const {
+        RESTIR_ASSERT(input.contains(pixel) && surfaces.contains(pixel));
+        return input.contains(pixel) && surfaces.contains(pixel) &&
+               is_valid_surface(surfaces[pixel]);
+    }
+    RESTIR_HOST_DEVICE Reservoir<Sample> kept(PixelCoord pixel,
+                                              ImageView<const Reservoir<Sample>> input) const {
+        return input.contains(pixel) ? input[pixel] : Reservoir<Sample>{};
+    }
+    // A spatial pass's combination at a pixel that combines, retested before another pass.
+    template <class Inputs, class Target, class Visibility, class MaterialTest, UniformRng Rng>
+    RESTIR_HOST_DEVICE Reservoir<Sample>
+    spatial_result(PixelCoord pixel, std::uint32_t pass, ImageView<const Reservoir<Sample>> input,
+                   const Inputs& inputs,
+                   const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng) const {
+        Reservoir<Sample> result = combine_inputs(input[pixel], surfaces[pixel], inputs,
+                                                  spatial_params().reuse, bridge, rng);
+        if (pass + 1u < params.spatial_passes)
+            retest(pixel, result, input[pixel], bridge.visibility);
+        return result;
+    }
     // Stages 1 and 5: `reservoir` with W = 0 when occluded, under visibility reuse.
     template <class Visibility>
     RESTIR_HOST_DEVICE Reservoir<Sample> tested(PixelCoord pixel, Reservoir<Sample> reservoir,

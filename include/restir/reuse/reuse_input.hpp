@@ -9,14 +9,60 @@
 #include "restir/reuse/image_view.hpp"
 #include "restir/reuse/similarity.hpp"
 
+#include <concepts>
+#include <cstdint>
+
 namespace restir {
 
 /// A reservoir borrowed from another pixel or frame, with the surface it was computed for.
 /// Both pointers refer into the caller's buffers; null when there is nothing to borrow.
+/// `candidate_cap` limits the M it lends (the temporal history cap); W is unchanged.
 template <class Sample, class SurfaceT>
 struct ReuseInput {
     const Reservoir<Sample>* reservoir = nullptr;
     const SurfaceT* surface = nullptr;
+    std::uint32_t candidate_cap = 0xffffffffu;
+};
+
+/// The reservoir that `input` lends: a copy with its M capped (`cap_candidate_count`).
+template <class Sample, class SurfaceT>
+RESTIR_HOST_DEVICE constexpr Reservoir<Sample>
+lent_reservoir(const ReuseInput<Sample, SurfaceT>& input) {
+    Reservoir<Sample> r = *input.reservoir;
+    r.cap_candidate_count(input.candidate_cap);
+    return r;
+}
+
+/// Borrowed reservoirs that a reuse step visits one at a time, as many times as it needs:
+/// `inputs.size()` slots, `inputs[i]` the input of slot i (null pointers when the slot lends
+/// nothing), the same input at every visit. Sets compute their inputs on demand (the spatial
+/// neighbours from their offsets and a validity bit mask), so that no step copies its inputs
+/// into an array: a GPU thread keeps them in registers.
+template <class T, class Sample, class SurfaceT>
+concept ReuseInputs = requires(const T& inputs, std::uint32_t i) {
+    { inputs.size() } -> std::convertible_to<std::uint32_t>;
+    { inputs[i] } -> std::convertible_to<ReuseInput<Sample, SurfaceT>>;
+};
+
+/// Inputs already gathered into an array (for renderers that collect them ahead of a pass).
+template <class Sample, class SurfaceT>
+struct ReuseInputSpan {
+    const ReuseInput<Sample, SurfaceT>* inputs = nullptr;
+    std::uint32_t count = 0u;
+    RESTIR_HOST_DEVICE constexpr std::uint32_t size() const noexcept { return count; }
+    RESTIR_HOST_DEVICE constexpr ReuseInput<Sample, SurfaceT> operator[](std::uint32_t i) const {
+        return inputs[i];
+    }
+};
+
+/// One input (temporal reuse).
+template <class Sample, class SurfaceT>
+struct SingleReuseInput {
+    ReuseInput<Sample, SurfaceT> input{};
+    RESTIR_HOST_DEVICE constexpr std::uint32_t size() const noexcept { return 1u; }
+    RESTIR_HOST_DEVICE constexpr ReuseInput<Sample, SurfaceT> operator[](std::uint32_t) const {
+        return input;
+    }
 };
 
 /// The reservoir of pixel `p` with its surface, if `receiver` may borrow it: `p` lies in both

@@ -75,36 +75,91 @@ RESTIR_HOST_DEVICE inline DiskOffset neighbour_rotation(float u) noexcept {
     return {std::cos(angle), std::sin(angle)};
 }
 
-/// The neighbours of `pixel` that may lend their reservoirs: k offsets taken consecutively
-/// from `offsets` from a random start, scaled by the radius and rounded; the pixel itself,
-/// pixels outside the image, dissimilar surfaces and non-finite reservoirs are skipped (not
-/// replaced). Writes them to `out` and returns how many there are. Two uniform numbers.
+/// The neighbours of a pixel that a spatial pass reuses, streamed: slot i is neighbour i of
+/// the pass (`spatial_neighbour`), recomputed at every visit from the pass's start and rotation,
+/// and lends its reservoir when bit i of `lends` is set. The pixel itself, pixels outside the
+/// image, dissimilar surfaces and non-finite reservoirs are skipped (not replaced). Holds views
+/// and a pointer to the offset table: no array of inputs, so that a GPU thread keeps it in
+/// registers. `ReuseInputs` for the bias corrections.
+template <class Sample, class S>
+struct SpatialNeighbours {
+    PixelCoord centre{};
+    std::uint32_t start = 0u;
+    DiskOffset rotation{1.0f, 0.0f};
+    float radius = 0.0f;
+    const NeighborOffsets* offsets = nullptr;
+    ImageView<const Reservoir<Sample>> reservoirs{};
+    ImageView<const S> surfaces{};
+    std::uint32_t count = 0u;                  ///< Slots: the neighbours tried.
+    std::uint32_t lends = 0u;                  ///< Bit i: slot i lends its reservoir.
+    std::uint32_t candidate_cap = 0xffffffffu; ///< Caps the M each neighbour lends.
+
+    RESTIR_HOST_DEVICE constexpr std::uint32_t size() const noexcept { return count; }
+    /// Neighbour i's pixel.
+    RESTIR_HOST_DEVICE constexpr PixelCoord pixel(std::uint32_t i) const {
+        return spatial_neighbour(centre, start, i, radius, *offsets, rotation);
+    }
+    RESTIR_HOST_DEVICE constexpr ReuseInput<Sample, S> operator[](std::uint32_t i) const {
+        if ((lends >> i & 1u) == 0u)
+            return {};
+        const PixelCoord p = pixel(i);
+        return {&reservoirs[p], &surfaces[p], candidate_cap};
+    }
+};
+
+/// The neighbours of `pixel` that a spatial pass with `params` reuses: k offsets taken
+/// consecutively from `offsets` from a random start, rotated by a random angle, scaled by the
+/// radius and rounded, each tested once (`reusable_input`) into the set's bit mask. Two
+/// uniform numbers. `centre` is the pixel whose neighbourhood is searched (the receiver, or
+/// its reprojection into the previous frame); `surface` the receiver's.
+template <class Sample, Surface S, class MaterialTest, UniformRng Rng>
+RESTIR_HOST_DEVICE SpatialNeighbours<Sample, S>
+find_spatial_neighbours(PixelCoord centre, const S& surface,
+                        ImageView<const Reservoir<Sample>> reservoirs, ImageView<const S> surfaces,
+                        const SpatialParams& params, const NeighborOffsets& offsets,
+                        const MaterialTest& material_test, Rng& rng) {
+    SpatialNeighbours<Sample, S> set;
+    set.centre = centre;
+    set.start = uniform_index(next_float(rng), neighbor_offset_count);
+    set.rotation = neighbour_rotation(next_float(rng));
+    set.radius = params.radius;
+    set.offsets = &offsets;
+    set.reservoirs = reservoirs;
+    set.surfaces = surfaces;
+    set.count = min_of(params.neighbour_count, max_reuse_inputs - 1u);
+    for (std::uint32_t i = 0; i < set.count; ++i) {
+        const PixelCoord p = set.pixel(i);
+        if (p.x == centre.x && p.y == centre.y)
+            continue;
+        if (reusable_input(p, surface, reservoirs, surfaces, params.similarity, material_test)
+                .reservoir != nullptr)
+            set.lends |= 1u << i;
+    }
+    return set;
+}
+
+/// The neighbours of `find_spatial_neighbours` written to `out` (the lending ones, in order),
+/// for renderers that trace a pass's MIS rays ahead of it; returns how many there are. Two
+/// uniform numbers.
 template <class Sample, Surface S, class MaterialTest, UniformRng Rng>
 RESTIR_HOST_DEVICE std::uint32_t gather_spatial_neighbours(
     PixelCoord pixel, const S& surface, ImageView<const Reservoir<Sample>> reservoirs,
     ImageView<const S> surfaces, const SpatialParams& params, const NeighborOffsets& offsets,
     const MaterialTest& material_test, Rng& rng, ReuseInput<Sample, S>* out) {
-    const std::uint32_t wanted = min_of(params.neighbour_count, max_reuse_inputs - 1u);
-    const std::uint32_t start = uniform_index(next_float(rng), neighbor_offset_count);
-    const DiskOffset rotation = neighbour_rotation(next_float(rng));
+    const SpatialNeighbours<Sample, S> set = find_spatial_neighbours(
+        pixel, surface, reservoirs, surfaces, params, offsets, material_test, rng);
     std::uint32_t found = 0u;
-    for (std::uint32_t i = 0; i < wanted; ++i) {
-        const PixelCoord neighbour =
-            spatial_neighbour(pixel, start, i, params.radius, offsets, rotation);
-        if (neighbour.x == pixel.x && neighbour.y == pixel.y)
-            continue;
-        const ReuseInput<Sample, S> input = reusable_input(neighbour, surface, reservoirs, surfaces,
-                                                           params.similarity, material_test);
-        if (input.reservoir != nullptr)
-            out[found++] = input;
-    }
+    for (std::uint32_t i = 0; i < set.count; ++i)
+        if ((set.lends >> i & 1u) != 0u)
+            out[found++] = set[i];
     return found;
 }
 
 /// Spatial resampling of one pixel: its own reservoir from `reservoirs` combined with its
-/// neighbours' under `params.reuse`. Reads `reservoirs` and `surfaces` only; write the result
-/// to a different buffer. A pixel with an invalid surface keeps its reservoir. Precondition:
-/// `pixel` lies in both views (a debug build checks); outside them the result is empty.
+/// neighbours' under `params.reuse`, the neighbours streamed (`SpatialNeighbours`). Reads
+/// `reservoirs` and `surfaces` only; write the result to a different buffer. A pixel with an
+/// invalid surface keeps its reservoir. Precondition: `pixel` lies in both views (a debug
+/// build checks); outside them the result is empty.
 template <class Sample, Surface S, class Target, class Visibility, class MaterialTest,
           UniformRng Rng>
 requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
@@ -120,11 +175,10 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
     const S& surface = surfaces[pixel];
     if (!is_valid_surface(surface))
         return own;
-    ReuseInput<Sample, S> neighbours[max_reuse_inputs];
-    const std::uint32_t count =
-        gather_spatial_neighbours(pixel, surface, reservoirs, surfaces, params, offsets,
-                                  bridge.material_test, rng, neighbours);
-    return combine_reservoirs(own, surface, neighbours, count, params.reuse, bridge, rng);
+    return combine_inputs(own, surface,
+                          find_spatial_neighbours(pixel, surface, reservoirs, surfaces, params,
+                                                  offsets, bridge.material_test, rng),
+                          params.reuse, bridge, rng);
 }
 
 } // namespace restir

@@ -21,6 +21,20 @@
 
 namespace restir {
 
+/// The inputs of fused reuse, streamed: slot 0 the history pixel (null when unusable), then
+/// the previous-frame neighbours around it; every one capped.
+template <class Sample, class S>
+struct HistoryAndNeighbours {
+    ReuseInput<Sample, S> history{};
+    SpatialNeighbours<Sample, S> neighbours{};
+    RESTIR_HOST_DEVICE constexpr std::uint32_t size() const noexcept {
+        return 1u + neighbours.size();
+    }
+    RESTIR_HOST_DEVICE constexpr ReuseInput<Sample, S> operator[](std::uint32_t i) const {
+        return i == 0u ? history : neighbours[i - 1u];
+    }
+};
+
 /// Fused spatiotemporal resampling of one pixel. `temporal` supplies the bias correction,
 /// similarity, history cap and permutation; `spatial` the neighbour count and radius (its
 /// `reuse` and `similarity` are not used). Every previous-frame reservoir is capped at
@@ -39,28 +53,23 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
     if (!is_valid_surface(surface))
         return current;
     const PixelCoord previous = history_pixel(reproject(pixel), temporal);
+    const std::uint32_t cap = history_cap(current.candidate_count, temporal);
 
-    ReuseInput<Sample, S> inputs[max_reuse_inputs];
-    std::uint32_t count = 0u;
-    inputs[0] = reusable_input(previous, surface, previous_reservoirs, previous_surfaces,
-                               temporal.similarity, bridge.material_test);
-    if (inputs[0].reservoir != nullptr)
-        ++count;
+    HistoryAndNeighbours<Sample, S> inputs;
+    inputs.history = reusable_input(previous, surface, previous_reservoirs, previous_surfaces,
+                                    temporal.similarity, bridge.material_test);
+    inputs.history.candidate_cap = cap;
+    const std::uint32_t history_count = inputs.history.reservoir != nullptr ? 1u : 0u;
 
     SpatialParams neighbourhood = spatial;
     neighbourhood.similarity = temporal.similarity;
-    neighbourhood.neighbour_count = min_of(spatial.neighbour_count, max_reuse_inputs - 1u - count);
-    count += gather_spatial_neighbours(previous, surface, previous_reservoirs, previous_surfaces,
-                                       neighbourhood, offsets, bridge.material_test, rng,
-                                       inputs + count);
-
-    // Cap every history at a multiple of the current M (copies: the buffers are read-only).
-    Reservoir<Sample> capped[max_reuse_inputs];
-    for (std::uint32_t i = 0; i < count; ++i) {
-        capped[i] = capped_history(*inputs[i].reservoir, current.candidate_count, temporal);
-        inputs[i].reservoir = &capped[i];
-    }
-    return combine_reservoirs(current, surface, inputs, count, temporal.reuse, bridge, rng);
+    neighbourhood.neighbour_count =
+        min_of(spatial.neighbour_count, max_reuse_inputs - 1u - history_count);
+    inputs.neighbours =
+        find_spatial_neighbours(previous, surface, previous_reservoirs, previous_surfaces,
+                                neighbourhood, offsets, bridge.material_test, rng);
+    inputs.neighbours.candidate_cap = cap;
+    return combine_inputs(current, surface, inputs, temporal.reuse, bridge, rng);
 }
 
 } // namespace restir

@@ -68,18 +68,24 @@ RESTIR_HOST_DEVICE constexpr PixelCoord history_pixel(PixelCoord reprojected,
             reprojected.y ^ static_cast<std::int32_t>((pattern >> 32u) & mask)};
 }
 
-/// A previous-frame reservoir with its M capped at `params.history_cap_multiplier` times the
-/// current M (no cap for a multiplier of 0); W is unchanged.
+/// The largest M a previous-frame reservoir may lend to a receiver whose own M is
+/// `current_count`: `params.history_cap_multiplier` times it (saturating), or no limit for a
+/// multiplier of 0.
+RESTIR_HOST_DEVICE constexpr std::uint32_t history_cap(std::uint32_t current_count,
+                                                       const TemporalParams& params) noexcept {
+    if (params.history_cap_multiplier == 0u)
+        return 0xffffffffu;
+    // multiplier * M, saturating instead of wrapping around to a small cap.
+    const std::uint64_t cap = std::uint64_t{params.history_cap_multiplier} * current_count;
+    return static_cast<std::uint32_t>(cap < 0xffffffffull ? cap : 0xffffffffull);
+}
+
+/// A previous-frame reservoir with its M capped at `history_cap`; W is unchanged.
 template <class Sample>
 RESTIR_HOST_DEVICE constexpr Reservoir<Sample> capped_history(Reservoir<Sample> history,
                                                               std::uint32_t current_count,
                                                               const TemporalParams& params) {
-    if (params.history_cap_multiplier > 0u) {
-        // multiplier * M, saturating instead of wrapping around to a small cap.
-        const std::uint64_t cap = std::uint64_t{params.history_cap_multiplier} * current_count;
-        history.cap_candidate_count(
-            static_cast<std::uint32_t>(cap < 0xffffffffull ? cap : 0xffffffffull));
-    }
+    history.cap_candidate_count(history_cap(current_count, params));
     return history;
 }
 
@@ -96,10 +102,9 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
                      const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng) {
     if (input.reservoir == nullptr)
         return current;
-    const Reservoir<Sample> history =
-        capped_history(*input.reservoir, current.candidate_count, params);
-    input.reservoir = &history;
-    return combine_reservoirs(current, surface, &input, 1u, params.reuse, bridge, rng);
+    input.candidate_cap = history_cap(current.candidate_count, params);
+    return combine_inputs(current, surface, SingleReuseInput<Sample, S>{input}, params.reuse,
+                          bridge, rng);
 }
 
 /// Temporal resampling of one pixel. `current` is the pixel's finalised reservoir for this
