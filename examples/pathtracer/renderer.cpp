@@ -574,7 +574,6 @@ struct Renderer::Impl {
         const auto reservoir_at = [this](std::uint32_t i) -> Reservoir& { return reservoirs[i]; };
         const auto scratch_at = [this](std::uint32_t i) -> Reservoir& { return scratch[i]; };
         const restir::ImageView<const Reservoir> input = view_of(reservoirs);
-        const restir::SpatialParams spatial = f.spatial_params();
         const bool mis_rays = traces_mis_rays();
         for_each_block([&](const PixelBlock& block) {
             constexpr std::uint32_t pixels = pixel_block * pixel_block;
@@ -586,14 +585,11 @@ struct Renderer::Impl {
             for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
                 rngs[k] = restir::make_pixel_rng(i, f.frame_index, restir::DiStream::spatial + pass,
                                                  rs.seed);
-                // DiFrame::spatial_neighbours with the pass's settings hoisted out of the loop
-                // (through the extra call, GCC stopped inlining the neighbour test: 4 % slower).
-                counts[k] = surfaces[i].valid
-                                ? restir::gather_spatial_neighbours(
-                                      coord(x, y), surfaces[i], input, f.surfaces, spatial,
-                                      f.offsets, restir::AnyMaterial{}, rngs[k], inputs[k].data())
-                                : 0u;
-                ++k;
+                const auto set =
+                    f.spatial_neighbours(coord(x, y), input, restir::AnyMaterial{}, rngs[k]);
+                for (std::uint32_t j = 0; j < set.size(); ++j)
+                    inputs[k][j] = set[j];
+                counts[k++] = set.size();
             });
             std::array<MisRayCache, pixels> caches;
             if (mis_rays)
@@ -607,8 +603,11 @@ struct Renderer::Impl {
                     caches);
             k = 0;
             for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
-                scratch[i] = f.spatial_combine(coord(x, y), pass, input, inputs[k].data(),
-                                               counts[k], cached_bridge(caches[k]), rngs[k]);
+                scratch[i] =
+                    f.spatial_combine(coord(x, y), pass, input,
+                                      restir::ReuseInputSpan<restir::LightPointSample, GSurface>{
+                                          inputs[k].data(), counts[k]},
+                                      cached_bridge(caches[k]), rngs[k]);
                 ++k;
             });
             if (pass + 1u < f.params.spatial_passes)

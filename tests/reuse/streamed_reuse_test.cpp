@@ -21,6 +21,11 @@ using restir::BiasCorrection;
 using restir::Reservoir;
 using Input = restir::ReuseInput<LightId, Patch>;
 
+// Bridge types of this file alone: the reuse functions instantiated for them are compiled here,
+// without contraction, and not taken at link time from another test's instantiation.
+struct StreamedTarget : Target {};
+struct StreamedVisibility : Visibility {};
+
 // A finalised RIS reservoir of `candidates` uniform candidates for patch `s`.
 Reservoir<LightId> random_reservoir(std::uint32_t s, std::uint32_t candidates, restir::Pcg32& rng) {
     Reservoir<LightId> r;
@@ -59,7 +64,7 @@ TEST(StreamedReuse, EqualsTheArrayBasedStepBitForBit) {
             for (int variant = 0; variant < 4; ++variant) {
                 restir::ReuseParams params{mode, variant != 3, variant != 2};
                 params.inputs_visibility_tested = variant == 1;
-                const restir::ReuseBridge bridge{Target{}, Visibility{}};
+                const restir::ReuseBridge bridge{StreamedTarget{}, StreamedVisibility{}};
                 restir::Pcg32 a =
                     restir::make_pixel_rng(trial, 1u, static_cast<std::uint32_t>(variant));
                 restir::Pcg32 b = a;

@@ -17,6 +17,7 @@
 #include "restir/reuse/visibility.hpp"
 
 #include <cstdint>
+#include <type_traits>
 
 namespace restir {
 
@@ -122,20 +123,73 @@ struct ReuseTerms {
     }
 };
 
+/// Input sets that declare `packed` hold only inputs that take part: non-null and well-formed.
+template <class Inputs>
+inline constexpr bool packed_inputs = requires {
+    requires Inputs::packed;
+};
+
+/// The cap a set puts on the M of the reservoirs it lends (`no_candidate_cap` by default).
+template <class Inputs>
+RESTIR_HOST_DEVICE constexpr std::uint32_t candidate_cap_of(const Inputs& inputs) {
+    if constexpr (requires { inputs.candidate_cap; })
+        return inputs.candidate_cap;
+    else
+        return no_candidate_cap;
+}
+
 /// Calls `visit(j, reservoir, surface)` for the inputs that take part, in slot order: slots
 /// that lend a well-formed reservoir, at most max_reuse_inputs - 1 of them; j counts them.
-/// The reservoir is the capped copy the input lends. Returns how many took part.
+/// The reservoir is the one the input lends, capped at the set's `candidate_cap`. Returns how
+/// many took part.
 template <class Sample, class S, class Inputs, class Visit>
 RESTIR_HOST_DEVICE std::uint32_t for_each_input(const Inputs& inputs, Visit&& visit) {
     std::uint32_t taken = 0u;
     const std::uint32_t slots = inputs.size();
+    const std::uint32_t cap = candidate_cap_of(inputs);
     for (std::uint32_t i = 0; i < slots && taken + 1u < max_reuse_inputs; ++i) {
         const ReuseInput<Sample, S> input = inputs[i];
-        if (input.reservoir == nullptr || !input.reservoir->is_well_formed())
-            continue;
-        visit(taken++, lent_reservoir(input), *input.surface);
+        if constexpr (!packed_inputs<Inputs>)
+            if (input.reservoir == nullptr || !input.reservoir->is_well_formed())
+                continue;
+        // The reservoir in its buffer, or a copy where the cap lowers its M.
+        if (input.reservoir->candidate_count <= cap) {
+            visit(taken++, *input.reservoir, *input.surface);
+        } else {
+            Reservoir<Sample> capped = *input.reservoir;
+            capped.cap_candidate_count(cap);
+            visit(taken++, capped, *input.surface);
+        }
     }
     return taken;
+}
+
+/// The inputs that take part, gathered once into an array: what host code visits, since on a
+/// CPU visiting a set again for every pass over the inputs (checks, lookups) cost the spatial
+/// pass 5-15 %; device code visits the set itself and keeps no array.
+template <class Sample, class S>
+struct PackedInputs {
+    static constexpr bool packed = true;
+    ReuseInput<Sample, S> items[max_reuse_inputs - 1u];
+    std::uint32_t count = 0u;
+    std::uint32_t candidate_cap = no_candidate_cap;
+    RESTIR_HOST_DEVICE constexpr std::uint32_t size() const noexcept { return count; }
+    RESTIR_HOST_DEVICE constexpr ReuseInput<Sample, S> operator[](std::uint32_t i) const {
+        return items[i];
+    }
+};
+
+template <class Sample, class S, class Inputs>
+RESTIR_HOST_DEVICE PackedInputs<Sample, S> pack_inputs(const Inputs& inputs) {
+    PackedInputs<Sample, S> packed;
+    packed.candidate_cap = candidate_cap_of(inputs);
+    const std::uint32_t slots = inputs.size();
+    for (std::uint32_t i = 0; i < slots && packed.count + 1u < max_reuse_inputs; ++i) {
+        const ReuseInput<Sample, S> input = inputs[i];
+        if (input.reservoir != nullptr && input.reservoir->is_well_formed())
+            packed.items[packed.count++] = input;
+    }
+    return packed;
 }
 
 } // namespace detail
@@ -261,11 +315,15 @@ combine_pairwise(const Reservoir<Sample>& canonical, const S& surface, const Inp
         inputs, [&](std::uint32_t, const Reservoir<Sample>& r, const S&) {
             total_count += static_cast<float>(r.candidate_count);
         });
-    if (k == 0u)
-        return canonical;
+    // Every return returns one named result, so that it is built in place (a 64-byte copy
+    // through the stack per pixel showed in the renderer's spatial phase).
+    Reservoir<Sample> result;
+    if (k == 0u) {
+        result = canonical;
+        return result;
+    }
     const float canonical_share = canonical_count / static_cast<float>(k);
     float canonical_mis = 0.0f;
-    Reservoir<Sample> result;
     detail::for_each_input<Sample, S>(inputs, [&](std::uint32_t, const Reservoir<Sample>& r,
                                                   const S& there) {
         const float count = static_cast<float>(r.candidate_count);
@@ -306,7 +364,13 @@ requires ReuseInputs<Inputs, Sample, S> && TargetFunction<Target, Sample, S> &&
                      const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng) {
     const Reservoir<Sample> canonical =
         receiver_reservoir.is_well_formed() ? receiver_reservoir : Reservoir<Sample>{};
-    if constexpr (Mode == BiasCorrection::none)
+#if !defined(__CUDA_ARCH__)
+    if constexpr (!detail::packed_inputs<Inputs>)
+        return combine_with<Mode, Sample>(
+            canonical, surface, detail::pack_inputs<Sample, S>(inputs), params, bridge, rng);
+    else
+#endif
+        if constexpr (Mode == BiasCorrection::none)
         return combine_one_over_m(canonical, surface, inputs, params, bridge, rng);
     else if constexpr (Mode == BiasCorrection::one_over_z)
         return combine_one_over_z(canonical, surface, inputs, params, bridge, rng);

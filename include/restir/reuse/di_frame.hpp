@@ -207,36 +207,35 @@ struct DiFrame {
     }
 
     /// The first half of `spatial`, for renderers that trace a pass's MIS rays ahead of it:
-    /// the neighbours it reuses, written to `out` (at most max_reuse_inputs - 1); returns how
-    /// many. `spatial_combine` takes them with the same `rng`.
+    /// the neighbours the pass reuses (`SpatialNeighbours`; its inputs, visited in order, name
+    /// their surfaces), empty for a pixel that keeps its reservoir. `spatial_combine` takes them
+    /// with the same `rng`.
     template <class MaterialTest, UniformRng Rng>
-    RESTIR_HOST_DEVICE std::uint32_t spatial_neighbours(PixelCoord pixel,
-                                                        ImageView<const Reservoir<Sample>> input,
-                                                        const MaterialTest& material_test, Rng& rng,
-                                                        ReuseInput<Sample, S>* out) const {
+    RESTIR_HOST_DEVICE SpatialNeighbours<Sample, S>
+    spatial_neighbours(PixelCoord pixel, ImageView<const Reservoir<Sample>> input,
+                       const MaterialTest& material_test, Rng& rng) const {
         if (!surfaces.contains(pixel) || !is_valid_surface(surfaces[pixel]))
-            return 0u;
+            return {};
         const SpatialParams spatial = spatial_params();
-        return gather_spatial_neighbours(pixel, surfaces[pixel], input, surfaces, spatial, offsets,
-                                         material_test, rng, out);
+        return find_spatial_neighbours(pixel, surfaces[pixel], input, surfaces, spatial, offsets,
+                                       material_test, rng);
     }
 
     /// The second half of `spatial`: combines the pixel's own reservoir in `input` with the
-    /// `count` neighbours that `spatial_neighbours` found.
-    template <class Target, class Visibility, class MaterialTest, UniformRng Rng>
-    requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
-        RESTIR_HOST_DEVICE Reservoir<Sample>
-        spatial_combine(PixelCoord pixel, std::uint32_t pass,
-                        ImageView<const Reservoir<Sample>> input,
-                        const ReuseInput<Sample, S>* neighbours, std::uint32_t count,
-                        const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng)
+    /// `neighbours` that `spatial_neighbours` found (or any `ReuseInputs` set).
+    template <class Inputs, class Target, class Visibility, class MaterialTest, UniformRng Rng>
+    requires ReuseInputs<Inputs, Sample, S> && TargetFunction<Target, Sample, S> &&
+        VisibilityFunction<Visibility, Sample, S>
+            RESTIR_HOST_DEVICE Reservoir<Sample>
+            spatial_combine(PixelCoord pixel, std::uint32_t pass,
+                            ImageView<const Reservoir<Sample>> input, const Inputs& neighbours,
+                            const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng)
     const {
         // One named result, returned once (see `temporal_combine`).
         const bool combines = combines_spatially(pixel, input);
-        Reservoir<Sample> result =
-            combines ? spatial_result(pixel, pass, input,
-                                      ReuseInputSpan<Sample, S>{neighbours, count}, bridge, rng)
-                     : kept(pixel, input);
+        Reservoir<Sample> result = combines
+                                       ? spatial_result(pixel, pass, input, neighbours, bridge, rng)
+                                       : kept(pixel, input);
         return result;
     }
 

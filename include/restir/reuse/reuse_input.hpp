@@ -16,28 +16,22 @@ namespace restir {
 
 /// A reservoir borrowed from another pixel or frame, with the surface it was computed for.
 /// Both pointers refer into the caller's buffers; null when there is nothing to borrow.
-/// `candidate_cap` limits the M it lends (the temporal history cap); W is unchanged.
+/// (Two pointers, so that functions return it in registers.)
 template <class Sample, class SurfaceT>
 struct ReuseInput {
     const Reservoir<Sample>* reservoir = nullptr;
     const SurfaceT* surface = nullptr;
-    std::uint32_t candidate_cap = 0xffffffffu;
 };
 
-/// The reservoir that `input` lends: a copy with its M capped (`cap_candidate_count`).
-template <class Sample, class SurfaceT>
-RESTIR_HOST_DEVICE constexpr Reservoir<Sample>
-lent_reservoir(const ReuseInput<Sample, SurfaceT>& input) {
-    Reservoir<Sample> r = *input.reservoir;
-    r.cap_candidate_count(input.candidate_cap);
-    return r;
-}
+/// No cap on the M an input lends.
+inline constexpr std::uint32_t no_candidate_cap = 0xffffffffu;
 
 /// Borrowed reservoirs that a reuse step visits one at a time, as many times as it needs:
 /// `inputs.size()` slots, `inputs[i]` the input of slot i (null pointers when the slot lends
 /// nothing), the same input at every visit. Sets compute their inputs on demand (the spatial
 /// neighbours from their offsets and a validity bit mask), so that no step copies its inputs
-/// into an array: a GPU thread keeps them in registers.
+/// into an array: a GPU thread keeps them in registers. A set with a member `candidate_cap`
+/// lends each reservoir with its M capped there (the temporal history cap; W unchanged).
 template <class T, class Sample, class SurfaceT>
 concept ReuseInputs = requires(const T& inputs, std::uint32_t i) {
     { inputs.size() } -> std::convertible_to<std::uint32_t>;
@@ -59,6 +53,7 @@ struct ReuseInputSpan {
 template <class Sample, class SurfaceT>
 struct SingleReuseInput {
     ReuseInput<Sample, SurfaceT> input{};
+    std::uint32_t candidate_cap = no_candidate_cap;
     RESTIR_HOST_DEVICE constexpr std::uint32_t size() const noexcept { return 1u; }
     RESTIR_HOST_DEVICE constexpr ReuseInput<Sample, SurfaceT> operator[](std::uint32_t) const {
         return input;

@@ -22,11 +22,12 @@
 namespace restir {
 
 /// The inputs of fused reuse, streamed: slot 0 the history pixel (null when unusable), then
-/// the previous-frame neighbours around it; every one capped.
+/// the previous-frame neighbours around it; every one capped at `candidate_cap`.
 template <class Sample, class S>
 struct HistoryAndNeighbours {
     ReuseInput<Sample, S> history{};
     SpatialNeighbours<Sample, S> neighbours{};
+    std::uint32_t candidate_cap = no_candidate_cap; ///< Caps every input's M.
     RESTIR_HOST_DEVICE constexpr std::uint32_t size() const noexcept {
         return 1u + neighbours.size();
     }
@@ -53,12 +54,10 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
     if (!is_valid_surface(surface))
         return current;
     const PixelCoord previous = history_pixel(reproject(pixel), temporal);
-    const std::uint32_t cap = history_cap(current.candidate_count, temporal);
 
     HistoryAndNeighbours<Sample, S> inputs;
     inputs.history = reusable_input(previous, surface, previous_reservoirs, previous_surfaces,
                                     temporal.similarity, bridge.material_test);
-    inputs.history.candidate_cap = cap;
     const std::uint32_t history_count = inputs.history.reservoir != nullptr ? 1u : 0u;
 
     SpatialParams neighbourhood = spatial;
@@ -68,7 +67,7 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
     inputs.neighbours =
         find_spatial_neighbours(previous, surface, previous_reservoirs, previous_surfaces,
                                 neighbourhood, offsets, bridge.material_test, rng);
-    inputs.neighbours.candidate_cap = cap;
+    inputs.candidate_cap = history_cap(current.candidate_count, temporal);
     return combine_inputs(current, surface, inputs, temporal.reuse, bridge, rng);
 }
 

@@ -102,9 +102,10 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
                      const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng) {
     if (input.reservoir == nullptr)
         return current;
-    input.candidate_cap = history_cap(current.candidate_count, params);
-    return combine_inputs(current, surface, SingleReuseInput<Sample, S>{input}, params.reuse,
-                          bridge, rng);
+    return combine_inputs(
+        current, surface,
+        SingleReuseInput<Sample, S>{input, history_cap(current.candidate_count, params)},
+        params.reuse, bridge, rng);
 }
 
 /// Temporal resampling of one pixel. `current` is the pixel's finalised reservoir for this
