@@ -192,6 +192,23 @@ RESTIR_HOST_DEVICE PackedInputs<Sample, S> pack_inputs(const Inputs& inputs) {
     return packed;
 }
 
+/// The merges of 1/M and 1/Z (Alg. 4): the canonical reservoir, then every input with weight
+/// p-hat_q(y_i) W_i M_i; with `only_own_support` an input lends only a sample it could produce
+/// (p-hat_i(y_i) > 0 with its visibility), as 1/Z needs.
+template <class Sample, class S, class Inputs, class Terms, class Rng>
+RESTIR_HOST_DEVICE Reservoir<Sample> merge_inputs(const Reservoir<Sample>& canonical,
+                                                  const Inputs& inputs, const Terms& terms,
+                                                  bool only_own_support, Rng& rng) {
+    Reservoir<Sample> result;
+    result.merge(canonical, canonical.target_value, next_float(rng));
+    for_each_input<Sample, S>(
+        inputs, [&](std::uint32_t, const Reservoir<Sample>& r, const S& there) {
+            const bool lends = r.has_sample() && (!only_own_support || terms.own(r, there) > 0.0f);
+            result.merge(r, lends ? terms.here(r.sample) : 0.0f, next_float(rng));
+        });
+    return result;
+}
+
 } // namespace detail
 
 /// Bias correction `none` (Bitterli et al. 2020, Alg. 4): w_i = p-hat_q(y_i) W_i M_i, W with
@@ -204,12 +221,8 @@ combine_one_over_m(const Reservoir<Sample>& canonical, const S& surface, const I
                    const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng) {
     const detail::ReuseTerms<Sample, S, Target, Visibility, MaterialTest> terms{surface, params,
                                                                                 bridge};
-    Reservoir<Sample> result;
-    result.merge(canonical, canonical.target_value, next_float(rng));
-    detail::for_each_input<Sample, S>(
-        inputs, [&](std::uint32_t, const Reservoir<Sample>& r, const S&) {
-            result.merge(r, r.has_sample() ? terms.here(r.sample) : 0.0f, next_float(rng));
-        });
+    Reservoir<Sample> result =
+        detail::merge_inputs<Sample, S>(canonical, inputs, terms, false, rng);
     result.finalize();
     return result;
 }
@@ -226,13 +239,7 @@ combine_one_over_z(const Reservoir<Sample>& canonical, const S& surface, const I
                    const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng) {
     const detail::ReuseTerms<Sample, S, Target, Visibility, MaterialTest> terms{surface, params,
                                                                                 bridge};
-    Reservoir<Sample> result;
-    result.merge(canonical, canonical.target_value, next_float(rng));
-    detail::for_each_input<Sample, S>(
-        inputs, [&](std::uint32_t, const Reservoir<Sample>& r, const S& there) {
-            const bool lends = r.has_sample() && terms.own(r, there) > 0.0f;
-            result.merge(r, lends ? terms.here(r.sample) : 0.0f, next_float(rng));
-        });
+    Reservoir<Sample> result = detail::merge_inputs<Sample, S>(canonical, inputs, terms, true, rng);
     // Z: the M of every input that could have produced y (the canonical one did or could,
     // since p-hat_q(y) > 0 for a selected y).
     float z = static_cast<float>(canonical.candidate_count);
