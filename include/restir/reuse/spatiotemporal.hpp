@@ -55,19 +55,21 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
         return current;
     const PixelCoord previous = history_pixel(reproject(pixel), temporal);
 
-    HistoryAndNeighbours<Sample, S> inputs;
-    inputs.history = reusable_input(previous, surface, previous_reservoirs, previous_surfaces,
-                                    temporal.similarity, bridge.material_test);
-    const std::uint32_t history_count = inputs.history.reservoir != nullptr ? 1u : 0u;
+    const ReuseInput<Sample, S> history =
+        reusable_input(previous, surface, previous_reservoirs, previous_surfaces,
+                       temporal.similarity, bridge.material_test);
+    const std::uint32_t history_count = history.reservoir != nullptr ? 1u : 0u;
 
     SpatialParams neighbourhood = spatial;
     neighbourhood.similarity = temporal.similarity;
     neighbourhood.neighbour_count =
         min_of(spatial.neighbour_count, max_reuse_inputs - 1u - history_count);
-    inputs.neighbours =
+    // Built in place: a host set's unused entries are left uninitialised, never copied.
+    const HistoryAndNeighbours<Sample, S> inputs{
+        history,
         find_spatial_neighbours(previous, surface, previous_reservoirs, previous_surfaces,
-                                neighbourhood, offsets, bridge.material_test, rng);
-    inputs.candidate_cap = history_cap(current.candidate_count, temporal);
+                                neighbourhood, offsets, bridge.material_test, rng),
+        history_cap(current.candidate_count, temporal)};
     return combine_inputs(current, surface, inputs, temporal.reuse, bridge, rng);
 }
 
