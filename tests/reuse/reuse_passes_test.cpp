@@ -224,6 +224,26 @@ TEST(TemporalReuse, PermutationBitsSetTheBlockSize) {
     EXPECT_GE(offsets_seen.size(), 12u);
 }
 
+// The rotation's polynomial sine and cosine agree with the library functions within 4e-7 over
+// a fine grid of u, lie on the unit circle, and are defined for any float.
+TEST(SpatialReuse, NeighbourRotationIsCosineAndSineOfTwoPiU) {
+    double worst = 0.0;
+    for (std::uint32_t k = 0; k < 100'000u; ++k) {
+        const float u = static_cast<float>(k) / 100'000.0f;
+        const restir::DiskOffset r = restir::neighbour_rotation(u);
+        const double angle = 6.283185307179586 * static_cast<double>(u);
+        worst = std::max({worst, std::abs(static_cast<double>(r.x) - std::cos(angle)),
+                          std::abs(static_cast<double>(r.y) - std::sin(angle))});
+    }
+    EXPECT_LT(worst, 4e-7);
+    for (const float u : {-0.25f, 1.25f, 1e30f, -1e-30f, std::numeric_limits<float>::infinity(),
+                          std::numeric_limits<float>::quiet_NaN()}) {
+        const restir::DiskOffset r = restir::neighbour_rotation(u);
+        EXPECT_NEAR(static_cast<double>(r.x * r.x + r.y * r.y), 1.0, 1e-6) << u;
+    }
+    EXPECT_NEAR(static_cast<double>(restir::neighbour_rotation(-0.25f).y), -1.0, 1e-6); // 3/4 turn
+}
+
 // A radius that no int offset can hold (or NaN) is clamped, not converted with undefined
 // behaviour (caught by the sanitised build); the history cap saturates instead of wrapping.
 TEST(SpatialReuse, HugeOrNanRadiusIsClamped) {
