@@ -530,7 +530,7 @@ struct Renderer::Impl {
         const RenderSettings& rs = r.settings_;
         const auto reservoir_at = [this](std::uint32_t i) -> Reservoir& { return reservoirs[i]; };
         const auto scratch_at = [this](std::uint32_t i) -> Reservoir& { return scratch[i]; };
-        const bool mis_rays = traces_mis_rays();
+        const bool mis_rays = f.mis_weights_trace_rays();
         for_each_block([&](const PixelBlock& block) {
             // Each pixel's history looked up once: its MIS ray is traced ahead, then combined.
             std::array<restir::ReuseInput<restir::LightPointSample, GSurface>,
@@ -574,7 +574,7 @@ struct Renderer::Impl {
         const auto reservoir_at = [this](std::uint32_t i) -> Reservoir& { return reservoirs[i]; };
         const auto scratch_at = [this](std::uint32_t i) -> Reservoir& { return scratch[i]; };
         const restir::ImageView<const Reservoir> input = view_of(reservoirs);
-        const bool mis_rays = traces_mis_rays();
+        const bool mis_rays = f.mis_weights_trace_rays();
         for_each_block([&](const PixelBlock& block) {
             constexpr std::uint32_t pixels = pixel_block * pixel_block;
             using Input = restir::ReuseInput<restir::LightPointSample, GSurface>;
@@ -655,13 +655,6 @@ struct Renderer::Impl {
                 image.pixels[i] = color;
             });
         });
-    }
-
-    // Whether the reuse passes' MIS weights trace rays (pre-traced as packets).
-    bool traces_mis_rays() const {
-        const RenderSettings& rs = r.settings_;
-        return rs.visibility_reuse && rs.mis_rays &&
-               rs.bias_correction != restir::BiasCorrection::none;
     }
 
     // One ReSTIR frame: the G-buffer, then the recipe's stages, timed by phase.

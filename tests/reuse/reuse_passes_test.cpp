@@ -282,10 +282,9 @@ TEST(SpatialReuse, HugeOrNanRadiusIsClamped) {
 
     restir::TemporalParams params = restir::default_temporal_params();
     params.history_cap_multiplier = 3'000'000'000u;
-    Reservoir<LightId> history;
-    history.candidate_count = 4'000'000'000u;
-    history.weight_sum = 1.0f;
-    EXPECT_EQ(restir::capped_history(history, 2u, params).candidate_count, 4'000'000'000u);
+    EXPECT_EQ(restir::history_cap(2u, params), 0xffffffffu); // 6e9 saturates, no wrap to 1.7e9
+    params.history_cap_multiplier = 0u;
+    EXPECT_EQ(restir::history_cap(2u, params), restir::no_candidate_cap);
 }
 
 // The offset table is rotated by a random angle per pixel: over many pixels the neighbours

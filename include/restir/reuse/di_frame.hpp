@@ -117,13 +117,20 @@ struct DiFrame {
         return s;
     }
 
+    /// Whether the passes' MIS weights trace shadow rays (visibility reuse with traced MIS
+    /// visibility, in an unbiased mode): then every pass input must be tested at its own surface.
+    RESTIR_HOST_DEVICE constexpr bool mis_weights_trace_rays() const noexcept {
+        return params.reuse.visibility_reuse && params.reuse.trace_mis_visibility &&
+               params.reuse.bias_correction != BiasCorrection::none;
+    }
+
     /// Whether a pass's result must be tested for visibility before the next pass reads it:
     /// under visibility reuse whose MIS weights trace rays, a result whose sample is not the
     /// pixel's own `input` sample (already tested there). Stages 1 and 5 test every
     /// sample under visibility reuse (`needs_visibility_test(r)`).
     RESTIR_HOST_DEVICE constexpr bool needs_visibility_test(const Reservoir<Sample>& result,
                                                             const Reservoir<Sample>& input) const {
-        if (!retests_between_passes() || !result.has_sample())
+        if (!mis_weights_trace_rays() || !result.has_sample())
             return false;
         if constexpr (requires {
                           { result.sample == input.sample } -> std::convertible_to<bool>;
@@ -197,6 +204,8 @@ struct DiFrame {
         spatial(PixelCoord pixel, std::uint32_t pass, ImageView<const Reservoir<Sample>> input,
                 const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng)
     const {
+        // Not spatial_combine(spatial_neighbours(...)): through the returned set nvcc kept the
+        // whole frame in local memory (656 bytes of stack); built here, the set stays in registers.
         if (!combines_spatially(pixel, input))
             return kept(pixel, input);
         const SpatialParams spatial = spatial_params();
@@ -287,10 +296,6 @@ private:
         if (!params.deferred_visibility && needs_visibility_test(reservoir))
             apply_visibility(reservoir, surfaces[pixel], visible);
         return reservoir;
-    }
-    RESTIR_HOST_DEVICE constexpr bool retests_between_passes() const noexcept {
-        return params.reuse.visibility_reuse && params.reuse.trace_mis_visibility &&
-               params.reuse.bias_correction != BiasCorrection::none;
     }
     template <class Visibility>
     RESTIR_HOST_DEVICE void retest(PixelCoord pixel, Reservoir<Sample>& result,

@@ -189,25 +189,6 @@ find_spatial_neighbours(PixelCoord centre, const S& surface,
     return set;
 }
 
-/// The neighbours of `find_spatial_neighbours` written to `out` (the lending ones, in order),
-/// for renderers that trace a pass's MIS rays ahead of it; returns how many there are. Two
-/// uniform numbers.
-template <class Sample, Surface S, class MaterialTest, UniformRng Rng>
-RESTIR_HOST_DEVICE std::uint32_t gather_spatial_neighbours(
-    PixelCoord pixel, const S& surface, ImageView<const Reservoir<Sample>> reservoirs,
-    ImageView<const S> surfaces, const SpatialParams& params, const NeighborOffsets& offsets,
-    const MaterialTest& material_test, Rng& rng, ReuseInput<Sample, S>* out) {
-    const SpatialNeighbours<Sample, S> set = find_spatial_neighbours(
-        pixel, surface, reservoirs, surfaces, params, offsets, material_test, rng);
-    std::uint32_t found = 0u;
-    for (std::uint32_t i = 0; i < set.size(); ++i) {
-        const ReuseInput<Sample, S> input = set[i];
-        if (input.reservoir != nullptr)
-            out[found++] = input;
-    }
-    return found;
-}
-
 /// Spatial resampling of one pixel: its own reservoir from `reservoirs` combined with its
 /// neighbours' under `params.reuse`, the neighbours streamed (`SpatialNeighbours`). Reads
 /// `reservoirs` and `surfaces` only; write the result to a different buffer. A pixel with an

@@ -80,15 +80,6 @@ RESTIR_HOST_DEVICE constexpr std::uint32_t history_cap(std::uint32_t current_cou
     return static_cast<std::uint32_t>(cap < 0xffffffffull ? cap : 0xffffffffull);
 }
 
-/// A previous-frame reservoir with its M capped at `history_cap`; W is unchanged.
-template <class Sample>
-RESTIR_HOST_DEVICE constexpr Reservoir<Sample> capped_history(Reservoir<Sample> history,
-                                                              std::uint32_t current_count,
-                                                              const TemporalParams& params) {
-    history.cap_candidate_count(history_cap(current_count, params));
-    return history;
-}
-
 /// The second half of `temporal_resample`: `current` (finalised, for `surface`) combined with
 /// the history `input` that `reusable_input` found for it, its M capped; `current` unchanged when
 /// `input` is null. For renderers that look the history up ahead of the pass (to trace its MIS
