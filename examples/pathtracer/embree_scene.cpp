@@ -47,14 +47,8 @@ EmbreeScene::EmbreeScene(const Scene& scene) {
     }
     std::memcpy(indices, scene.indices.data(), scene.indices.size() * sizeof(unsigned));
     normals_.resize(scene.triangle_count());
-    for (std::uint32_t t = 0; t < scene.triangle_count(); ++t) {
-        const glm::vec3 a = scene.positions[scene.indices[3 * t + 0]];
-        const glm::vec3 b = scene.positions[scene.indices[3 * t + 1]];
-        const glm::vec3 c = scene.positions[scene.indices[3 * t + 2]];
-        const glm::vec3 n = glm::cross(b - a, c - a);
-        const float length = glm::length(n);
-        normals_[t] = length > 0.0f ? n / length : glm::vec3(0.0f, 1.0f, 0.0f);
-    }
+    for (std::uint32_t t = 0; t < scene.triangle_count(); ++t)
+        normals_[t] = Triangle(scene, t).normal();
     rtcCommitGeometry(geometry);
     rtcAttachGeometry(scene_, geometry);
     rtcReleaseGeometry(geometry);

@@ -1,5 +1,7 @@
 #include "image_io.hpp"
 
+#include "messages.hpp"
+
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
@@ -55,24 +57,6 @@ std::string lowercase(std::string s) {
 
 // The path as it appears in messages.
 std::string name(const std::filesystem::path& path) { return path.string(); }
-
-// Folds a library's message onto one line and trims it.
-std::string one_line(std::string_view text) {
-    std::string line;
-    bool space = false;
-    for (char c : text) {
-        if (c == '\n' || c == '\r' || c == '\t' || c == ' ') {
-            space = !line.empty();
-        } else {
-            if (space) {
-                line += ' ';
-                space = false;
-            }
-            line += c;
-        }
-    }
-    return line;
-}
 
 std::string errno_message(int error) { return std::generic_category().message(error); }
 

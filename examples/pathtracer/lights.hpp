@@ -28,16 +28,13 @@ public:
             const Material& m = scene.materials[scene.triangle_materials[t]];
             if (!m.is_emissive())
                 continue;
-            const glm::vec3 a = scene.positions[scene.indices[3 * t + 0]];
-            const glm::vec3 b = scene.positions[scene.indices[3 * t + 1]];
-            const glm::vec3 c = scene.positions[scene.indices[3 * t + 2]];
-            const glm::vec3 cross = glm::cross(b - a, c - a);
-            const float twice_area = glm::length(cross);
+            const Triangle triangle(scene, t);
+            const float twice_area = triangle.twice_area();
             if (!(twice_area > 0.0f))
                 continue; // degenerate: emits nothing
             emitter_of_triangle_[t] = static_cast<std::uint32_t>(triangles_.size());
-            triangles_.push_back(
-                {a, b - a, c - a, cross / twice_area, m.emission, 0.5f * twice_area});
+            triangles_.push_back({triangle.a, triangle.ab, triangle.ac, triangle.normal(),
+                                  m.emission, 0.5f * twice_area});
         }
     }
 

@@ -1,5 +1,7 @@
 #include "scene.hpp"
 
+#include "messages.hpp"
+
 #include <restir/core/rng.hpp>
 
 #include <glm/common.hpp>
@@ -53,58 +55,20 @@ void add_quad(Scene& scene, Quad quad, glm::vec3 towards, std::uint32_t material
 
 float luminance(glm::vec3 rgb) { return 0.2126f * rgb.x + 0.7152f * rgb.y + 0.0722f * rgb.z; }
 
-/// Joins the non-empty lines of `text`, trimmed, with "; ".
-std::string one_line(std::string_view text) {
-    std::string result;
-    while (!text.empty()) {
-        const std::size_t end = text.find_first_of("\r\n");
-        std::string_view line = text.substr(0, end);
-        text = end == std::string_view::npos ? std::string_view{} : text.substr(end + 1);
-        const std::size_t first = line.find_first_not_of(" \t");
-        if (first == std::string_view::npos) {
-            continue;
-        }
-        line = line.substr(first, line.find_last_not_of(" \t") - first + 1);
-        if (!result.empty()) {
-            result += "; ";
-        }
-        result += line;
-    }
-    return result;
-}
-
 } // namespace
 
-Scene make_cornell_box() {
-    Scene scene;
-    scene.name = "cornell";
-    constexpr std::uint32_t white = 0;
-    constexpr std::uint32_t red = 1;
-    constexpr std::uint32_t green = 2;
-    constexpr std::uint32_t light = 3;
-    scene.materials = {
-        {"white", {0.725f, 0.71f, 0.68f}, {0.0f, 0.0f, 0.0f}},
-        {"red", {0.63f, 0.065f, 0.05f}, {0.0f, 0.0f, 0.0f}},
-        {"green", {0.14f, 0.45f, 0.091f}, {0.0f, 0.0f, 0.0f}},
-        {"light", {0.78f, 0.78f, 0.78f}, {17.0f, 12.0f, 4.0f}},
-    };
+namespace {
 
+// The Cornell box's materials, by the index that add_quad takes.
+enum CornellMaterial : std::uint32_t { white, red, green, light };
+
+// The floor, the light, the ceiling and the walls, each facing the room's interior (the light
+// faces down).
+void add_cornell_room(Scene& scene) {
     const glm::vec3 interior{278.0f, 274.0f, 280.0f};
     const auto add_room_quad = [&](const Quad& quad, std::uint32_t material) {
         add_quad(scene, quad, interior - centroid(quad), material);
     };
-    const auto add_block = [&](const std::array<Quad, 5>& faces) {
-        // The mean of all face corners lies strictly inside the convex block.
-        glm::vec3 centre{0.0f};
-        for (const Quad& face : faces) {
-            centre += centroid(face);
-        }
-        centre /= static_cast<float>(faces.size());
-        for (const Quad& face : faces) {
-            add_quad(scene, face, centroid(face) - centre, white);
-        }
-    };
-
     add_room_quad(
         {{{552.8f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 559.2f}, {549.6f, 0.0f, 559.2f}}},
         white);
@@ -136,71 +100,171 @@ Scene make_cornell_box() {
                     {556.0f, 548.8f, 559.2f},
                     {556.0f, 548.8f, 0.0f}}},
                   red);
+}
 
-    add_block({{
-        {{{130.0f, 165.0f, 65.0f},
-          {82.0f, 165.0f, 225.0f},
-          {240.0f, 165.0f, 272.0f},
-          {290.0f, 165.0f, 114.0f}}},
-        {{{290.0f, 0.0f, 114.0f},
-          {290.0f, 165.0f, 114.0f},
-          {240.0f, 165.0f, 272.0f},
-          {240.0f, 0.0f, 272.0f}}},
-        {{{130.0f, 0.0f, 65.0f},
-          {130.0f, 165.0f, 65.0f},
-          {290.0f, 165.0f, 114.0f},
-          {290.0f, 0.0f, 114.0f}}},
-        {{{82.0f, 0.0f, 225.0f},
-          {82.0f, 165.0f, 225.0f},
-          {130.0f, 165.0f, 65.0f},
-          {130.0f, 0.0f, 65.0f}}},
-        {{{240.0f, 0.0f, 272.0f},
-          {240.0f, 165.0f, 272.0f},
-          {82.0f, 165.0f, 225.0f},
-          {82.0f, 0.0f, 225.0f}}},
-    }});
-    add_block({{
-        {{{423.0f, 330.0f, 247.0f},
-          {265.0f, 330.0f, 296.0f},
-          {314.0f, 330.0f, 456.0f},
-          {472.0f, 330.0f, 406.0f}}},
-        {{{423.0f, 0.0f, 247.0f},
-          {423.0f, 330.0f, 247.0f},
-          {472.0f, 330.0f, 406.0f},
-          {472.0f, 0.0f, 406.0f}}},
-        {{{472.0f, 0.0f, 406.0f},
-          {472.0f, 330.0f, 406.0f},
-          {314.0f, 330.0f, 456.0f},
-          {314.0f, 0.0f, 456.0f}}},
-        {{{314.0f, 0.0f, 456.0f},
-          {314.0f, 330.0f, 456.0f},
-          {265.0f, 330.0f, 296.0f},
-          {265.0f, 0.0f, 296.0f}}},
-        {{{265.0f, 0.0f, 296.0f},
-          {265.0f, 330.0f, 296.0f},
-          {423.0f, 330.0f, 247.0f},
-          {423.0f, 0.0f, 247.0f}}},
-    }});
+// A white convex block of five faces (the floor closes it), each facing outwards.
+void add_block(Scene& scene, const std::array<Quad, 5>& faces) {
+    // The mean of all face corners lies strictly inside the convex block.
+    glm::vec3 centre{0.0f};
+    for (const Quad& face : faces) {
+        centre += centroid(face);
+    }
+    centre /= static_cast<float>(faces.size());
+    for (const Quad& face : faces) {
+        add_quad(scene, face, centroid(face) - centre, white);
+    }
+}
 
+void add_cornell_short_block(Scene& scene) {
+    add_block(scene, {{
+                         {{{130.0f, 165.0f, 65.0f},
+                           {82.0f, 165.0f, 225.0f},
+                           {240.0f, 165.0f, 272.0f},
+                           {290.0f, 165.0f, 114.0f}}},
+                         {{{290.0f, 0.0f, 114.0f},
+                           {290.0f, 165.0f, 114.0f},
+                           {240.0f, 165.0f, 272.0f},
+                           {240.0f, 0.0f, 272.0f}}},
+                         {{{130.0f, 0.0f, 65.0f},
+                           {130.0f, 165.0f, 65.0f},
+                           {290.0f, 165.0f, 114.0f},
+                           {290.0f, 0.0f, 114.0f}}},
+                         {{{82.0f, 0.0f, 225.0f},
+                           {82.0f, 165.0f, 225.0f},
+                           {130.0f, 165.0f, 65.0f},
+                           {130.0f, 0.0f, 65.0f}}},
+                         {{{240.0f, 0.0f, 272.0f},
+                           {240.0f, 165.0f, 272.0f},
+                           {82.0f, 165.0f, 225.0f},
+                           {82.0f, 0.0f, 225.0f}}},
+                     }});
+}
+
+void add_cornell_tall_block(Scene& scene) {
+    add_block(scene, {{
+                         {{{423.0f, 330.0f, 247.0f},
+                           {265.0f, 330.0f, 296.0f},
+                           {314.0f, 330.0f, 456.0f},
+                           {472.0f, 330.0f, 406.0f}}},
+                         {{{423.0f, 0.0f, 247.0f},
+                           {423.0f, 330.0f, 247.0f},
+                           {472.0f, 330.0f, 406.0f},
+                           {472.0f, 0.0f, 406.0f}}},
+                         {{{472.0f, 0.0f, 406.0f},
+                           {472.0f, 330.0f, 406.0f},
+                           {314.0f, 330.0f, 456.0f},
+                           {314.0f, 0.0f, 456.0f}}},
+                         {{{314.0f, 0.0f, 456.0f},
+                           {314.0f, 330.0f, 456.0f},
+                           {265.0f, 330.0f, 296.0f},
+                           {265.0f, 0.0f, 296.0f}}},
+                         {{{265.0f, 0.0f, 296.0f},
+                           {265.0f, 330.0f, 296.0f},
+                           {423.0f, 330.0f, 247.0f},
+                           {423.0f, 0.0f, 247.0f}}},
+                     }});
+}
+
+} // namespace
+
+Scene make_cornell_box() {
+    Scene scene;
+    scene.name = "cornell";
+    scene.materials = {
+        {"white", {0.725f, 0.71f, 0.68f}, {0.0f, 0.0f, 0.0f}},
+        {"red", {0.63f, 0.065f, 0.05f}, {0.0f, 0.0f, 0.0f}},
+        {"green", {0.14f, 0.45f, 0.091f}, {0.0f, 0.0f, 0.0f}},
+        {"light", {0.78f, 0.78f, 0.78f}, {17.0f, 12.0f, 4.0f}},
+    };
+    add_cornell_room(scene);
+    add_cornell_short_block(scene);
+    add_cornell_tall_block(scene);
     scene.camera = CameraSetup{
         {278.0f, 273.0f, -800.0f}, {278.0f, 273.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, 39.3077f};
     return scene;
 }
+
+namespace {
+
+// The many-lights scene: a floor of [-50, 50]^2 and lights over [-40, 40]^2, 1 to 3 above it,
+// in 16 colours. The lights' total luminance-weighted power does not depend on their count:
+// it lights the floor to an average outgoing radiance of about 0.5.
+constexpr float floor_half_size = 50.0f;
+constexpr float lit_half_size = 40.0f;
+constexpr float min_light_height = 1.0f;
+constexpr float max_light_height = 3.0f;
+constexpr std::uint32_t palette_size = 16;
+constexpr float total_light_power = 15000.0f;
+
+// The lights' colours: random colours of unit luminance times an intensity in [0.25, 1.75).
+struct LightPalette {
+    std::array<glm::vec3, palette_size> colours{};
+    std::array<float, palette_size> intensities{};
+};
+
+LightPalette draw_palette(restir::Pcg32& rng) {
+    LightPalette palette;
+    for (std::uint32_t k = 0; k < palette_size; ++k) {
+        glm::vec3 colour{0.2f + 0.8f * next_float(rng), 0.2f + 0.8f * next_float(rng),
+                         0.2f + 0.8f * next_float(rng)};
+        palette.colours[k] = colour / luminance(colour);
+        palette.intensities[k] = 0.25f + 1.5f * next_float(rng);
+    }
+    return palette;
+}
+
+// `count` square lights facing down, each of a random palette entry (material 1 + entry), with
+// sides in [max/3, max], max shrinking as the lights get denser. Returns the sum of intensity
+// times area over the lights.
+double add_light_quads(Scene& scene, std::uint32_t count, const LightPalette& palette,
+                       restir::Pcg32& rng) {
+    const float lit_area = 4.0f * lit_half_size * lit_half_size;
+    const float max_side = std::min(0.3f, 0.5f * std::sqrt(lit_area / static_cast<float>(count)));
+    const float min_side = max_side / 3.0f;
+    double weighted_area = 0.0;
+    for (std::uint32_t i = 0; i < count; ++i) {
+        const float x = lit_half_size * (2.0f * next_float(rng) - 1.0f);
+        const float z = lit_half_size * (2.0f * next_float(rng) - 1.0f);
+        const float y = min_light_height + (max_light_height - min_light_height) * next_float(rng);
+        const float side = min_side + (max_side - min_side) * next_float(rng);
+        const auto entry =
+            std::min(static_cast<std::uint32_t>(next_float(rng) * static_cast<float>(palette_size)),
+                     palette_size - 1);
+        const float h = 0.5f * side;
+        add_quad(scene,
+                 {{{x - h, y, z - h}, {x + h, y, z - h}, {x + h, y, z + h}, {x - h, y, z + h}}},
+                 {0.0f, -1.0f, 0.0f}, 1 + entry);
+        weighted_area +=
+            static_cast<double>(palette.intensities[entry]) * static_cast<double>(side * side);
+    }
+    return weighted_area;
+}
+
+// The palette's materials "light-00" to "light-15", scaled so that the lights, whose
+// intensity-weighted area is `weighted_area`, emit the total power.
+void add_light_materials(Scene& scene, const LightPalette& palette, double weighted_area) {
+    // A diffuse emitter of radiance L and area A emits pi * L * A.
+    const auto scale = static_cast<float>(static_cast<double>(total_light_power) /
+                                          (std::numbers::pi * weighted_area));
+    for (std::uint32_t k = 0; k < palette_size; ++k) {
+        std::string name = "light-";
+        if (k < 10) {
+            name += '0';
+        }
+        name += std::to_string(k);
+        scene.materials.push_back({std::move(name),
+                                   {0.8f, 0.8f, 0.8f},
+                                   palette.colours[k] * (palette.intensities[k] * scale)});
+    }
+}
+
+} // namespace
 
 Scene make_many_lights(std::uint32_t light_count, std::uint64_t seed) {
     constexpr std::uint32_t max_lights = 10'000'000;
     if (light_count == 0 || light_count > max_lights) {
         throw SceneError("many-lights: the light count must be between 1 and 10000000");
     }
-    constexpr float floor_half_size = 50.0f;
-    constexpr float lit_half_size = 40.0f; // lights are spread over [-40, 40]^2
-    constexpr float min_height = 1.0f;
-    constexpr float max_height = 3.0f;
-    constexpr std::uint32_t palette_size = 16;
-    // Total luminance-weighted emitted power, independent of the light count: it lights the
-    // floor to an average outgoing radiance of about 0.5.
-    constexpr float total_power = 15000.0f;
-
     Scene scene;
     scene.name = "many-lights";
     scene.positions.reserve(4 * (std::size_t{light_count} + 1));
@@ -214,51 +278,9 @@ Scene make_many_lights(std::uint32_t light_count, std::uint64_t seed) {
              {0.0f, 1.0f, 0.0f}, 0);
 
     restir::Pcg32 rng = restir::make_pixel_rng(0u, 0u, 0u, seed);
-
-    // Palette: random colours of unit luminance times an intensity in [0.25, 1.75).
-    std::array<glm::vec3, palette_size> colours{};
-    std::array<float, palette_size> intensities{};
-    for (std::uint32_t k = 0; k < palette_size; ++k) {
-        glm::vec3 colour{0.2f + 0.8f * next_float(rng), 0.2f + 0.8f * next_float(rng),
-                         0.2f + 0.8f * next_float(rng)};
-        colours[k] = colour / luminance(colour);
-        intensities[k] = 0.25f + 1.5f * next_float(rng);
-    }
-
-    // Sides in [max/3, max], with max shrinking as the lights get denser.
-    const float lit_area = 4.0f * lit_half_size * lit_half_size;
-    const float max_side =
-        std::min(0.3f, 0.5f * std::sqrt(lit_area / static_cast<float>(light_count)));
-    const float min_side = max_side / 3.0f;
-
-    double weighted_area = 0.0; // sum of intensity * area over the lights
-    for (std::uint32_t i = 0; i < light_count; ++i) {
-        const float x = lit_half_size * (2.0f * next_float(rng) - 1.0f);
-        const float z = lit_half_size * (2.0f * next_float(rng) - 1.0f);
-        const float y = min_height + (max_height - min_height) * next_float(rng);
-        const float side = min_side + (max_side - min_side) * next_float(rng);
-        const auto entry =
-            std::min(static_cast<std::uint32_t>(next_float(rng) * static_cast<float>(palette_size)),
-                     palette_size - 1);
-        const float h = 0.5f * side;
-        add_quad(scene,
-                 {{{x - h, y, z - h}, {x + h, y, z - h}, {x + h, y, z + h}, {x - h, y, z + h}}},
-                 {0.0f, -1.0f, 0.0f}, 1 + entry);
-        weighted_area += static_cast<double>(intensities[entry]) * static_cast<double>(side * side);
-    }
-
-    // A diffuse emitter of radiance L and area A emits pi * L * A.
-    const auto scale =
-        static_cast<float>(static_cast<double>(total_power) / (std::numbers::pi * weighted_area));
-    for (std::uint32_t k = 0; k < palette_size; ++k) {
-        std::string name = "light-";
-        if (k < 10) {
-            name += '0';
-        }
-        name += std::to_string(k);
-        scene.materials.push_back(
-            {std::move(name), {0.8f, 0.8f, 0.8f}, colours[k] * (intensities[k] * scale)});
-    }
+    const LightPalette palette = draw_palette(rng);
+    const double weighted_area = add_light_quads(scene, light_count, palette, rng);
+    add_light_materials(scene, palette, weighted_area);
 
     scene.camera =
         CameraSetup{{0.0f, 120.0f, 100.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, 40.0f};
@@ -430,88 +452,126 @@ public:
     }
 };
 
+// The scene's materials from the OBJ's (Kd clamped to [0, 1], Ke at least 0), and a "default"
+// one, added the first time a face names no material or one that does not exist.
+class ObjMaterials {
+public:
+    ObjMaterials(Scene& scene, const std::vector<tinyobj::material_t>& materials)
+        : scene_(scene), obj_count_(static_cast<int>(materials.size())) {
+        for (const tinyobj::material_t& source : materials) {
+            Material material;
+            material.name = source.name;
+            material.albedo = glm::clamp(
+                glm::vec3{source.diffuse[0], source.diffuse[1], source.diffuse[2]}, 0.0f, 1.0f);
+            material.emission = glm::max(
+                glm::vec3{source.emission[0], source.emission[1], source.emission[2]}, 0.0f);
+            scene_.materials.push_back(std::move(material));
+        }
+    }
+
+    // The scene material of a face's material id.
+    std::uint32_t index(int id) {
+        if (id >= 0 && id < obj_count_) {
+            return static_cast<std::uint32_t>(id);
+        }
+        if (default_ == none) {
+            default_ = static_cast<std::uint32_t>(scene_.materials.size());
+            scene_.materials.push_back({"default", glm::vec3{0.8f}, glm::vec3{0.0f}});
+        }
+        return default_;
+    }
+
+private:
+    static constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
+    Scene& scene_;
+    int obj_count_;
+    std::uint32_t default_ = none; // the "default" material, once added
+};
+
+// The OBJ's vertices that faces use, appended to the scene's positions when first used, each
+// checked: defined, finite and within max_coordinate of the origin.
+class ObjVertices {
+public:
+    ObjVertices(Scene& scene, const std::vector<tinyobj::real_t>& coordinates, const Fail& fail)
+        : scene_(scene), coordinates_(coordinates), fail_(fail),
+          remap_(coordinates.size() / 3, unused) {}
+
+    // The scene vertex of a face corner.
+    std::uint32_t index(const tinyobj::index_t& corner) {
+        if (corner.vertex_index < 0 ||
+            static_cast<std::size_t>(corner.vertex_index) >= remap_.size()) {
+            throw fail_("a face refers to vertex " + std::to_string(corner.vertex_index + 1) +
+                        " but the file defines " + std::to_string(remap_.size()) + " vertices");
+        }
+        const auto source = static_cast<std::size_t>(corner.vertex_index);
+        std::uint32_t& target = remap_[source];
+        if (target == unused) {
+            const glm::vec3 position{coordinates_[3 * source], coordinates_[3 * source + 1],
+                                     coordinates_[3 * source + 2]};
+            check(position, source);
+            target = static_cast<std::uint32_t>(scene_.positions.size());
+            scene_.positions.push_back(position);
+        }
+        return target;
+    }
+
+private:
+    static constexpr std::uint32_t unused = std::numeric_limits<std::uint32_t>::max();
+
+    void check(glm::vec3 position, std::size_t source) const {
+        if (!std::isfinite(position.x) || !std::isfinite(position.y) ||
+            !std::isfinite(position.z)) {
+            throw fail_("vertex " + std::to_string(source + 1) + " is not finite");
+        }
+        if (std::abs(position.x) > max_coordinate || std::abs(position.y) > max_coordinate ||
+            std::abs(position.z) > max_coordinate) {
+            throw fail_("vertex " + std::to_string(source + 1) + " lies beyond 1e15 of the origin");
+        }
+        if (scene_.positions.size() >= unused) {
+            throw fail_("too many vertices");
+        }
+    }
+
+    Scene& scene_;
+    const std::vector<tinyobj::real_t>& coordinates_;
+    const Fail& fail_;
+    std::vector<std::uint32_t> remap_;
+};
+
+// The faces of one OBJ shape as triangle fans.
+void add_obj_faces(Scene& scene, const tinyobj::shape_t& shape, ObjMaterials& materials,
+                   ObjVertices& vertices, const Fail& fail) {
+    const tinyobj::mesh_t& mesh = shape.mesh;
+    std::size_t offset = 0;
+    for (std::size_t face = 0; face < mesh.num_face_vertices.size(); ++face) {
+        const std::size_t corners = mesh.num_face_vertices[face];
+        if (offset + corners > mesh.indices.size()) {
+            throw fail("inconsistent face data in shape " + shape.name);
+        }
+        const std::uint32_t material =
+            materials.index(face < mesh.material_ids.size() ? mesh.material_ids[face] : -1);
+        for (std::size_t k = 1; k + 1 < corners; ++k) {
+            scene.indices.push_back(vertices.index(mesh.indices[offset]));
+            scene.indices.push_back(vertices.index(mesh.indices[offset + k]));
+            scene.indices.push_back(vertices.index(mesh.indices[offset + k + 1]));
+            if (scene.triangle_materials.size() >= std::numeric_limits<std::uint32_t>::max()) {
+                throw fail("too many triangles");
+            }
+            scene.triangle_materials.push_back(material);
+        }
+        offset += corners;
+    }
+}
+
 // The scene of the data tinyobjloader read: materials, then the triangles with their used
 // vertices.
 Scene build_scene(const ObjData& data, const std::string& name, const Fail& fail) {
     Scene scene;
     scene.name = name;
-    for (const tinyobj::material_t& source : data.materials) {
-        Material material;
-        material.name = source.name;
-        material.albedo = glm::clamp(
-            glm::vec3{source.diffuse[0], source.diffuse[1], source.diffuse[2]}, 0.0f, 1.0f);
-        material.emission =
-            glm::max(glm::vec3{source.emission[0], source.emission[1], source.emission[2]}, 0.0f);
-        scene.materials.push_back(std::move(material));
-    }
-    const auto obj_material_count = static_cast<int>(scene.materials.size());
-    std::optional<std::uint32_t> default_material;
-    const auto material_index = [&](int id) {
-        if (id >= 0 && id < obj_material_count) {
-            return static_cast<std::uint32_t>(id);
-        }
-        if (!default_material) {
-            default_material = static_cast<std::uint32_t>(scene.materials.size());
-            scene.materials.push_back({"default", glm::vec3{0.8f}, glm::vec3{0.0f}});
-        }
-        return *default_material;
-    };
-
-    const std::vector<tinyobj::real_t>& coordinates = data.attrib.vertices;
-    const std::size_t vertex_count = coordinates.size() / 3;
-    constexpr std::uint32_t unused = std::numeric_limits<std::uint32_t>::max();
-    std::vector<std::uint32_t> remap(vertex_count, unused);
-    const auto vertex = [&](const tinyobj::index_t& index) {
-        if (index.vertex_index < 0 ||
-            static_cast<std::size_t>(index.vertex_index) >= vertex_count) {
-            throw fail("a face refers to vertex " + std::to_string(index.vertex_index + 1) +
-                       " but the file defines " + std::to_string(vertex_count) + " vertices");
-        }
-        const auto source = static_cast<std::size_t>(index.vertex_index);
-        std::uint32_t& target = remap[source];
-        if (target == unused) {
-            const glm::vec3 position{coordinates[3 * source], coordinates[3 * source + 1],
-                                     coordinates[3 * source + 2]};
-            if (!std::isfinite(position.x) || !std::isfinite(position.y) ||
-                !std::isfinite(position.z)) {
-                throw fail("vertex " + std::to_string(source + 1) + " is not finite");
-            }
-            if (std::abs(position.x) > max_coordinate || std::abs(position.y) > max_coordinate ||
-                std::abs(position.z) > max_coordinate) {
-                throw fail("vertex " + std::to_string(source + 1) +
-                           " lies beyond 1e15 of the origin");
-            }
-            if (scene.positions.size() >= unused) {
-                throw fail("too many vertices");
-            }
-            target = static_cast<std::uint32_t>(scene.positions.size());
-            scene.positions.push_back(position);
-        }
-        return target;
-    };
-
-    for (const tinyobj::shape_t& shape : data.shapes) {
-        const tinyobj::mesh_t& mesh = shape.mesh;
-        std::size_t offset = 0;
-        for (std::size_t face = 0; face < mesh.num_face_vertices.size(); ++face) {
-            const std::size_t corners = mesh.num_face_vertices[face];
-            if (offset + corners > mesh.indices.size()) {
-                throw fail("inconsistent face data in shape " + shape.name);
-            }
-            const std::uint32_t material =
-                material_index(face < mesh.material_ids.size() ? mesh.material_ids[face] : -1);
-            for (std::size_t k = 1; k + 1 < corners; ++k) {
-                scene.indices.push_back(vertex(mesh.indices[offset]));
-                scene.indices.push_back(vertex(mesh.indices[offset + k]));
-                scene.indices.push_back(vertex(mesh.indices[offset + k + 1]));
-                if (scene.triangle_materials.size() >= unused) {
-                    throw fail("too many triangles");
-                }
-                scene.triangle_materials.push_back(material);
-            }
-            offset += corners;
-        }
-    }
+    ObjMaterials materials(scene, data.materials);
+    ObjVertices vertices(scene, data.attrib.vertices, fail);
+    for (const tinyobj::shape_t& shape : data.shapes)
+        add_obj_faces(scene, shape, materials, vertices, fail);
     if (scene.triangle_materials.empty()) {
         throw fail("it contains no triangles");
     }
@@ -564,13 +624,33 @@ Scene load_obj(const std::filesystem::path& path) {
     return read_obj(text, libraries, path.stem().string(), fail);
 }
 
-float scene_size(const Scene& scene) {
+namespace {
+
+// The scene's bounding box (lower above upper when it has no vertices).
+struct Bounds {
     glm::vec3 lower{std::numeric_limits<float>::max()};
     glm::vec3 upper{std::numeric_limits<float>::lowest()};
+};
+
+Bounds bounds_of(const Scene& scene) {
+    Bounds bounds;
     for (const glm::vec3& position : scene.positions) {
-        lower = glm::min(lower, position);
-        upper = glm::max(upper, position);
+        bounds.lower = glm::min(bounds.lower, position);
+        bounds.upper = glm::max(bounds.upper, position);
     }
+    return bounds;
+}
+
+} // namespace
+
+glm::vec3 Triangle::normal(glm::vec3 degenerate) const {
+    const glm::vec3 n = normal_times_twice_area();
+    const float length = glm::length(n);
+    return length > 0.0f ? n / length : degenerate;
+}
+
+float scene_size(const Scene& scene) {
+    const auto [lower, upper] = bounds_of(scene);
     return scene.positions.empty() ? 1e-6f : std::max(glm::length(upper - lower), 1e-6f);
 }
 
@@ -581,12 +661,7 @@ CameraSetup frame_bounds(const Scene& scene, float aspect) {
     if (scene.positions.empty()) {
         return camera;
     }
-    glm::vec3 lower{std::numeric_limits<float>::max()};
-    glm::vec3 upper{std::numeric_limits<float>::lowest()};
-    for (const glm::vec3& position : scene.positions) {
-        lower = glm::min(lower, position);
-        upper = glm::max(upper, position);
-    }
+    const auto [lower, upper] = bounds_of(scene);
     const glm::vec3 centre = 0.5f * (lower + upper);
     const glm::vec3 half = glm::max(0.5f * (upper - lower), glm::vec3(1e-6f));
     // The box's front face (at z = upper.z) fills the view in its tighter direction.

@@ -3,6 +3,7 @@
 // from Wavefront OBJ/MTL.
 #pragma once
 
+#include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
 #include <cstdint>
@@ -49,6 +50,23 @@ struct Scene {
     std::uint32_t triangle_count() const {
         return static_cast<std::uint32_t>(triangle_materials.size());
     }
+};
+
+/// Triangle `t` of a scene as its first corner and the edges from there, in winding order.
+struct Triangle {
+    glm::vec3 a, ab, ac;
+
+    Triangle(const Scene& scene, std::uint32_t t)
+        : a(scene.positions[scene.indices[3 * t + 0]]),
+          ab(scene.positions[scene.indices[3 * t + 1]] - a),
+          ac(scene.positions[scene.indices[3 * t + 2]] - a) {}
+
+    /// cross(ab, ac): along the geometric normal, twice the area long.
+    glm::vec3 normal_times_twice_area() const { return glm::cross(ab, ac); }
+    /// Twice the area (0 for a degenerate triangle).
+    float twice_area() const { return glm::length(normal_times_twice_area()); }
+    /// The unit geometric normal, or `degenerate` when the triangle has no area.
+    glm::vec3 normal(glm::vec3 degenerate = {0.0f, 1.0f, 0.0f}) const;
 };
 
 /// A scene that cannot be built or loaded; `what()` is a one-line message for the user.
