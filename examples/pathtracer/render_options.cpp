@@ -57,19 +57,15 @@ void check_memory(const RenderSettings& settings, bool with_reference, std::uint
              " MB: make the image or --vpls smaller, or raise --max-memory");
 }
 
-} // namespace
+// The flags of restir-render's enumerations: names to values, ignoring case.
+template <class Enum>
+CLI::Validator names(const std::map<std::string, Enum>& values) {
+    return CLI::CheckedTransformer(values, CLI::ignore_case).description("");
+}
 
-std::optional<RenderOptions> parse_render_options(int argc, const char* const* argv,
-                                                  std::string& help) {
-    RenderOptions options;
+// What is rendered: the scene, the method and the frames.
+void add_scene_options(CLI::App& app, RenderOptions& options) {
     RenderSettings& settings = options.settings;
-
-    CLI::App app{"restir-render: ReSTIR, RIS, uniform light sampling and VPL global illumination "
-                 "on Embree, with error measurement against a reference"};
-    // A flag given twice keeps its last value, so that wrappers can set defaults that the
-    // user's arguments override (scripts/render.sh).
-    app.option_defaults()->always_capture_default()->multi_option_policy(
-        CLI::MultiOptionPolicy::TakeLast);
     app.add_option("--scene", options.scene,
                    "cornell (built in), many-lights (procedural, see --lights) or a Wavefront "
                    "FILE.obj");
@@ -78,28 +74,31 @@ std::optional<RenderOptions> parse_render_options(int argc, const char* const* a
     app.add_option("--scene-seed", options.scene_seed,
                    "Seed of the many-lights scene's layout (apart from --seed, so that renders "
                    "with other pixel seeds see the same scene)");
-    const std::map<std::string, Method> methods{{"uniform", Method::uniform},
-                                                {"ris", Method::ris},
-                                                {"restir", Method::restir},
-                                                {"reference", Method::reference}};
     app.add_option("--method", settings.method,
                    "uniform: one uniformly chosen light per sample; ris: resampling from "
                    "--candidates; restir: RIS + temporal + spatial reuse; reference: path "
                    "tracer with next-event estimation and MIS")
-        ->transform(CLI::CheckedTransformer(methods, CLI::ignore_case).description(""))
+        ->transform(names<Method>({{"uniform", Method::uniform},
+                                   {"ris", Method::ris},
+                                   {"restir", Method::restir},
+                                   {"reference", Method::reference}}))
         ->default_str("restir");
-    const std::map<std::string, GlobalIllumination> gis{{"none", GlobalIllumination::none},
-                                                        {"vpl", GlobalIllumination::vpl},
-                                                        {"path", GlobalIllumination::path}};
     app.add_option("--gi", settings.gi,
                    "Indirect light: none, vpl (photon-mapped VPLs sampled with the emitters) or "
                    "path (path-traced bounces)")
-        ->transform(CLI::CheckedTransformer(gis, CLI::ignore_case).description(""))
+        ->transform(names<GlobalIllumination>({{"none", GlobalIllumination::none},
+                                               {"vpl", GlobalIllumination::vpl},
+                                               {"path", GlobalIllumination::path}}))
         ->default_str("vpl");
     app.add_option("--spp", settings.spp, "Samples per pixel per frame (restir: 1)")
         ->check(CLI::Range(1u, 65536u));
     app.add_option("--frames", options.frames, "Frames rendered and averaged")
         ->check(CLI::Range(1u, 100000u));
+}
+
+// The image and the camera, and how the render runs.
+void add_camera_options(CLI::App& app, RenderOptions& options) {
+    RenderSettings& settings = options.settings;
     app.add_option("--width", settings.width, "Image width")->check(CLI::Range(1u, 16384u));
     app.add_option("--height", settings.height, "Image height")->check(CLI::Range(1u, 16384u));
     app.add_option("--look-from", options.look_from, "Camera position x,y,z")
@@ -112,12 +111,11 @@ std::optional<RenderOptions> parse_render_options(int argc, const char* const* a
         ->check(finite_number);
     app.add_option("--fov", options.fov, "Vertical field of view in degrees")
         ->check(finite_number & CLI::Range(1.0f, 179.0f));
-    const std::map<std::string, CameraMotion> motions{{"none", CameraMotion::none},
-                                                      {"orbit", CameraMotion::orbit}};
     app.add_option("--camera-motion", settings.motion,
                    "none, or orbit: the camera turns about the look-at point a little every "
                    "frame, so temporal reuse goes through real reprojection")
-        ->transform(CLI::CheckedTransformer(motions, CLI::ignore_case).description(""))
+        ->transform(
+            names<CameraMotion>({{"none", CameraMotion::none}, {"orbit", CameraMotion::orbit}}))
         ->default_str("none");
     app.add_option("--antialias", settings.antialias,
                    "Jitter primary rays inside the pixel (true/false); off, every method sees "
@@ -128,6 +126,10 @@ std::optional<RenderOptions> parse_render_options(int argc, const char* const* a
     app.add_option("--max-memory", options.max_memory_mb,
                    "Refuse renders whose estimated memory exceeds this many MB (0: three "
                    "quarters of the machine's physical memory)");
+}
+
+// The images written and the measurements against a reference.
+void add_output_options(CLI::App& app, RenderOptions& options) {
     app.add_option("--out", options.outs,
                    "Output image(s): .png (tone-mapped), .exr or .pfm (linear); repeat the flag "
                    "for several")
@@ -142,72 +144,74 @@ std::optional<RenderOptions> parse_render_options(int argc, const char* const* a
                    "frame_ms, elapsed_ms, the phase timings, bias, and the error measures of "
                    "docs/renderer.md (rel_mse, fireflies, p999, row/column ratio, "
                    "autocorrelation)");
-    // The library's parameters.
+}
+
+// The candidates and the ReSTIR frame's reuse, straight into the library's parameters.
+void add_light_sampling_options(CLI::App& app, RenderSettings& settings) {
+    restir::DiFrameParams& frame = settings.di_frame;
     app.add_option("--candidates", settings.candidates, "RIS candidates per pixel (M)")
         ->check(CLI::Range(1u, 4096u));
-    app.add_option("--neighbours", settings.neighbours, "Spatial reuse neighbours (k)")
+    app.add_option("--neighbours", frame.spatial.neighbour_count, "Spatial reuse neighbours (k)")
         ->check(CLI::Range(0u, restir::max_reuse_inputs - 1u));
-    app.add_option("--radius", settings.radius,
+    app.add_option("--radius", frame.spatial.radius,
                    "Spatial reuse radius in pixels (0: the paper's 30 px at 1080 rows, scaled "
                    "to the image height, at least 3)")
         ->check(finite_number & CLI::Range(0.0f, 1000.0f));
-    app.add_option("--spatial-passes", settings.spatial_passes, "Spatial reuse passes")
+    app.add_option("--spatial-passes", frame.spatial_passes, "Spatial reuse passes")
         ->check(CLI::Range(0u, 16u));
-    app.add_option("--history-cap", settings.history_cap,
+    app.add_option("--history-cap", frame.temporal.history_cap_multiplier,
                    "Temporal history M cap, as a multiple of the current M (0: no cap)");
-    app.add_option("--permutation-sampling", settings.permutation_sampling,
+    app.add_option("--permutation-sampling", frame.temporal.permutation_sampling,
                    "Temporal reuse reads the history of a pixel permuted per frame in 2x2 "
                    "blocks (true/false)");
-    app.add_option("--boiling-filter", settings.boiling_threshold,
+    app.add_option("--boiling-filter", frame.boiling.threshold,
                    "Boiling filter after spatial reuse: empty reservoirs whose contribution "
                    "exceeds this multiple of their 9x9 neighbourhood's (0: off; biased)")
         ->check(finite_number & CLI::Range(0.0f, 1e30f));
-    const std::map<std::string, restir::BiasCorrection> corrections{
-        {"none", restir::BiasCorrection::none},
-        {"one-over-z", restir::BiasCorrection::one_over_z},
-        {"balance-heuristic", restir::BiasCorrection::balance_heuristic},
-        {"pairwise", restir::BiasCorrection::pairwise}};
-    app.add_option("--bias-correction", settings.bias_correction,
+    app.add_option("--bias-correction", frame.reuse.bias_correction,
                    "Reuse weights: none (1/M, biased), one-over-z, balance-heuristic, pairwise")
-        ->transform(CLI::CheckedTransformer(corrections, CLI::ignore_case).description(""))
+        ->transform(names<restir::BiasCorrection>(
+            {{"none", restir::BiasCorrection::none},
+             {"one-over-z", restir::BiasCorrection::one_over_z},
+             {"balance-heuristic", restir::BiasCorrection::balance_heuristic},
+             {"pairwise", restir::BiasCorrection::pairwise}}))
         ->default_str("pairwise");
-    app.add_option("--visibility-reuse", settings.visibility_reuse,
+    app.add_option("--visibility-reuse", frame.reuse.visibility_reuse,
                    "Zero W of occluded samples before reuse (true/false)");
-    app.add_option("--mis-rays", settings.mis_rays,
+    app.add_option("--mis-rays", frame.reuse.trace_mis_visibility,
                    "With visibility reuse, trace the shadow rays of the reuse MIS weights "
                    "(true/false); false assumes samples visible inside the weights (no rays in "
                    "reuse, slightly biased: docs/noise-and-bias.md)");
-    const std::map<std::string, CandidateSource> sources{{"power", CandidateSource::power},
-                                                         {"uniform", CandidateSource::uniform}};
     app.add_option("--source", settings.source,
                    "Candidate distribution of ris/restir: power or uniform")
-        ->transform(CLI::CheckedTransformer(sources, CLI::ignore_case).description(""))
+        ->transform(names<CandidateSource>(
+            {{"power", CandidateSource::power}, {"uniform", CandidateSource::uniform}}))
         ->default_str("power");
+}
+
+// Indirect light: the VPLs' photons and the path tracer's depth. The photons' seed is
+// --vpl-seed, or --seed without it: `vpl_seed` holds it until parsing ends.
+void add_indirect_light_options(CLI::App& app, RenderSettings& settings,
+                                std::optional<std::uint64_t>& vpl_seed) {
     app.add_option("--vpls", settings.vpls, "About this many VPLs (gi vpl)")
         ->check(CLI::Range(0u, 100'000'000u));
-    app.add_option("--vpl-bounces", settings.vpl_bounces, "Photon bounce limit")
+    app.add_option("--vpl-bounces", settings.photons.max_bounces, "Photon bounce limit")
         ->check(CLI::Range(1u, 64u));
     app.add_option("--vpl-reshoot", settings.vpl_reshoot_interval,
                    "Shoot a new, independent VPL set every N frames (0: one set for the whole "
                    "render)")
         ->check(CLI::Range(0u, 1'000'000u));
-    std::optional<std::uint64_t> vpl_seed;
     app.add_option("--vpl-seed", vpl_seed, "Seed of the photons (default: --seed)");
     app.add_option("--attenuation-radius", settings.attenuation_radius,
                    "Yuksel attenuation radius of VPLs in scene units (0: 2 % of the scene size)")
         ->check(finite_number & CLI::Range(0.0f, 1e30f));
     app.add_option("--max-depth", settings.max_depth, "Path length limit (reference, gi path)")
         ->check(CLI::Range(1u, 1024u));
+}
 
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::CallForHelp&) {
-        help = app.help();
-        return std::nullopt;
-    } catch (const CLI::ParseError& e) {
-        fail(std::string(e.what()) + " (see --help)");
-    }
-    settings.vpl_seed = vpl_seed.value_or(settings.seed);
+// The checks that involve several flags, and the memory estimate.
+void check_consistent(const RenderOptions& options) {
+    const RenderSettings& settings = options.settings;
     check_memory(settings, !options.reference.empty(), options.max_memory_mb);
     for (const auto& [name, values] :
          {std::pair{"--look-from", &options.look_from}, std::pair{"--look-at", &options.look_at}})
@@ -218,6 +222,37 @@ std::optional<RenderOptions> parse_render_options(int argc, const char* const* a
         fail("restir renders one sample per pixel per frame: use --frames instead of --spp");
     if (!options.reference.empty() && settings.motion != CameraMotion::none)
         fail("--reference needs a still camera (--camera-motion none)");
+}
+
+} // namespace
+
+std::optional<RenderOptions> parse_render_options(int argc, const char* const* argv,
+                                                  std::string& help) {
+    RenderOptions options;
+    RenderSettings& settings = options.settings;
+    CLI::App app{"restir-render: ReSTIR, RIS, uniform light sampling and VPL global illumination "
+                 "on Embree, with error measurement against a reference"};
+    // A flag given twice keeps its last value, so that wrappers can set defaults that the
+    // user's arguments override (scripts/render.sh).
+    app.option_defaults()->always_capture_default()->multi_option_policy(
+        CLI::MultiOptionPolicy::TakeLast);
+    std::optional<std::uint64_t> vpl_seed;
+    add_scene_options(app, options);
+    add_camera_options(app, options);
+    add_output_options(app, options);
+    add_light_sampling_options(app, settings);
+    add_indirect_light_options(app, settings, vpl_seed);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp&) {
+        help = app.help();
+        return std::nullopt;
+    } catch (const CLI::ParseError& e) {
+        fail(std::string(e.what()) + " (see --help)");
+    }
+    settings.photons.seed = vpl_seed.value_or(settings.seed);
+    settings.di_frame.boiling_filter = settings.di_frame.boiling.threshold > 0.0f;
+    check_consistent(options);
     return options;
 }
 

@@ -1,5 +1,8 @@
 #include "renderer.hpp"
 
+#include "camera.hpp"
+#include "embree_scene.hpp"
+#include "lights.hpp"
 #include "scatter.hpp"
 
 #include <glm/geometric.hpp>
@@ -14,6 +17,7 @@
 #include <cmath>
 #include <limits>
 #include <new>
+#include <optional>
 #include <span>
 #include <string>
 
@@ -76,13 +80,20 @@ struct CacheLineAllocator {
 using ReservoirBuffer = std::vector<Reservoir, CacheLineAllocator<Reservoir>>;
 
 struct Renderer::Impl {
-    const Renderer& r;
+    const Scene& scene;
+    const RenderSettings settings;
+    const EmbreeScene rays;
+    const TriangleEmitters emitters;
     tbb::task_arena arena;
+    const float extent;            // scene_size: the length of the bounding box's diagonal
+    const float ray_offset;        // 1e-4 of the extent
+    const restir::Falloff falloff; // of the VPLs
     Camera camera, previous_camera;
-    float scene_size = 1.0f;
-    float ray_offset = 1e-4f;
-    restir::Falloff falloff{};
 
+    // The light set: the emitters and the VPL set of this frame.
+    std::vector<restir::Vpl> vpls;
+    double photon_ms = 0.0;                       // time of the last photon shooting
+    std::optional<std::uint32_t> photons_per_set; // from the pilot pass of the first set
     Unified lights;
     restir::AliasTable light_table;   // unified: emitters + VPLs, by power
     restir::AliasTable emitter_table; // emitters only, by power (path tracing NEE)
@@ -92,10 +103,106 @@ struct Renderer::Impl {
     std::vector<GSurface> surfaces, previous_surfaces;
     ReservoirBuffer reservoirs, previous_reservoirs, scratch;
 
-    explicit Impl(const Renderer& renderer)
-        : r(renderer),
-          arena(renderer.settings_.threads == 0 ? tbb::task_arena::automatic
-                                                : static_cast<int>(renderer.settings_.threads)) {}
+    // The frames: the last one alone, their sum and their average.
+    Image frame_image, accumulated;
+    std::vector<glm::dvec3> sum;
+    std::uint32_t frames_rendered = 0;
+
+    // Builds the BVH, the emitters, the first VPL set and the frame buffers.
+    Impl(const Scene& s, const RenderSettings& rs)
+        : scene(s), settings(rs), rays(scene), emitters(checked_emitters(scene)),
+          arena(settings.threads == 0 ? tbb::task_arena::automatic
+                                      : static_cast<int>(settings.threads)),
+          extent(scene_size(scene)), ray_offset(1e-4f * extent),
+          falloff(restir::Falloff::yuksel(
+              settings.attenuation_radius > 0.0f ? settings.attenuation_radius : 0.02f * extent)),
+          camera(settings.camera, settings.width, settings.height), previous_camera(camera),
+          frame_image(settings.width, settings.height),
+          accumulated(settings.width, settings.height),
+          sum(std::size_t{settings.width} * settings.height, glm::dvec3(0.0)) {
+        shoot_vpls(0u);
+        const std::size_t pixels = std::size_t{settings.width} * settings.height;
+        surfaces.resize(pixels);
+        previous_surfaces.resize(pixels);
+        if (settings.method == Method::restir) {
+            reservoirs.resize(pixels);
+            previous_reservoirs.resize(pixels);
+            scratch.resize(pixels);
+        }
+    }
+
+    static TriangleEmitters checked_emitters(const Scene& scene) {
+        TriangleEmitters emitters(scene);
+        if (emitters.light_count() == 0)
+            throw SceneError("scene '" + scene.name +
+                             "' has no emitters: give some material a positive Ke");
+        return emitters;
+    }
+
+    // --- The light set: emitters and VPLs ------------------------------------------------
+
+    // Shoots VPL set `generation` (0: the first, from the photons' seed) with --gi vpl, and
+    // rebuilds the light set and its sampling tables.
+    void shoot_vpls(std::uint32_t generation) {
+        if (settings.gi == GlobalIllumination::vpl && settings.vpls > 0) {
+            const auto start = Clock::now();
+            restir::PhotonParams params = settings.photons;
+            params.ray_offset = ray_offset;
+            // Set 0 keeps the seed itself; later sets are independent of it and of each other.
+            params.seed = generation == 0u
+                              ? settings.photons.seed
+                              : restir::mix64(settings.photons.seed ^ restir::mix64(generation));
+            if (!photons_per_set)
+                photons_per_set = pilot_photon_count(params);
+            params.photon_count = *photons_per_set;
+            vpls = params.photon_count > 0u ? shoot_photons(params) : std::vector<restir::Vpl>{};
+            photon_ms = milliseconds_since(start);
+        }
+        build_light_set(generation);
+    }
+
+    std::vector<restir::Vpl> shoot_photons(const restir::PhotonParams& params) {
+        const LambertianScatter scatter{&scene};
+        const auto parallel_for = [this](std::uint32_t count, auto&& body) {
+            arena.execute([&] { tbb::parallel_for(0u, count, [&](std::uint32_t i) { body(i); }); });
+        };
+        return restir::shoot_photons(emitters, rays, scatter, params, parallel_for);
+    }
+
+    // Photons per VPL set: a pilot pass measures VPLs per photon, so that the budget gives
+    // about `vpls` VPLs, with at most 64 photons per VPL asked for; a pilot that leaves no VPL
+    // at all (no surface reflects) means no VPLs (0), not a hundred million more photons.
+    std::uint32_t pilot_photon_count(restir::PhotonParams params) {
+        params.photon_count = std::min<std::uint32_t>(settings.vpls, 4096u);
+        const std::size_t pilot = shoot_photons(params).size();
+        const double per_photon = static_cast<double>(pilot) / params.photon_count;
+        return pilot == 0u ? 0u
+                           : static_cast<std::uint32_t>(std::clamp(
+                                 std::ceil(settings.vpls / per_photon), 1.0,
+                                 std::min(4.0e9, 64.0 * static_cast<double>(settings.vpls))));
+    }
+
+    // The emitters and this VPL set as one light set, and its tables: all lights by power
+    // (candidates), the emitters alone and the VPLs alone (path tracing). Throws SceneError
+    // for a shining emitter whose power is no float.
+    void build_light_set(std::uint32_t generation) {
+        lights = Unified{&emitters, vpls.data(), static_cast<std::uint32_t>(vpls.size())};
+        const std::vector<float> powers = restir::unified_light_powers(lights);
+        // unified_light_powers gives a power that overflows a float as 0; a shining emitter
+        // with power 0 would never be sampled (and alone gives "all weights are zero").
+        // Emitters do not change between VPL sets: checked once.
+        for (std::uint32_t e = 0; generation == 0u && e < emitters.light_count(); ++e) {
+            const glm::vec3 radiance = emitters.radiance(e);
+            if (!(powers[e] > 0.0f) && radiance.x + radiance.y + radiance.z > 0.0f)
+                throw SceneError("emitter " + std::to_string(e) + " of scene '" + scene.name +
+                                 "' has no float power: too bright (lower its Ke) or too small");
+        }
+        light_table.build(powers);
+        emitter_table.build(std::span<const float>(powers.data(), emitters.light_count()));
+        if (!vpls.empty())
+            vpl_table.build(
+                std::span<const float>(powers.data() + emitters.light_count(), vpls.size()));
+    }
 
     // --- Lights --------------------------------------------------------------------------
     glm::vec3 reflected(const GSurface& s, const restir::LightSample& light) const {
@@ -103,7 +210,7 @@ struct Renderer::Impl {
                restir::unshadowed_irradiance(light, s.position, s.normal, falloff);
     }
     restir::LightVisibility<Unified, EmbreeScene> visibility() const {
-        return {&lights, &r.rays_, ray_offset};
+        return {&lights, &rays, ray_offset};
     }
     bool visible(const restir::LightSampleRef& ref, const GSurface& s) const {
         return visibility()(ref, s);
@@ -121,7 +228,7 @@ struct Renderer::Impl {
             s.albedo * inv_pi * restir::unshadowed_irradiance(sample, s.position, s.normal));
     }
     restir::LightPointVisibility<EmbreeScene> point_visibility() const {
-        return {&r.rays_, ray_offset};
+        return {&rays, ray_offset};
     }
 
     // --- Pixels --------------------------------------------------------------------------
@@ -133,29 +240,29 @@ struct Renderer::Impl {
         std::uint32_t x0, y0, x1, y1; // [x0, x1) x [y0, y1)
     };
     PixelBlock block_at(std::uint32_t b) const {
-        const std::uint32_t columns = (r.settings_.width + pixel_block - 1u) / pixel_block;
+        const std::uint32_t columns = (settings.width + pixel_block - 1u) / pixel_block;
         const std::uint32_t x0 = b % columns * pixel_block;
         const std::uint32_t y0 = b / columns * pixel_block;
-        return {x0, y0, std::min(r.settings_.width, x0 + pixel_block),
-                std::min(r.settings_.height, y0 + pixel_block)};
+        return {x0, y0, std::min(settings.width, x0 + pixel_block),
+                std::min(settings.height, y0 + pixel_block)};
     }
     std::uint32_t block_count() const {
-        return ((r.settings_.width + pixel_block - 1u) / pixel_block) *
-               ((r.settings_.height + pixel_block - 1u) / pixel_block);
+        return ((settings.width + pixel_block - 1u) / pixel_block) *
+               ((settings.height + pixel_block - 1u) / pixel_block);
     }
     template <class Body>
     void for_each_pixel_of(const PixelBlock& block, Body&& body) const {
         for (std::uint32_t y = block.y0; y < block.y1; ++y)
             for (std::uint32_t x = block.x0; x < block.x1; ++x)
-                body(x, y, x + y * r.settings_.width);
+                body(x, y, x + y * settings.width);
     }
     // The blocks in squares of up to 8 x 8 blocks (64 x 64 pixels) per task: reuse reads
     // neighbours up to 30 pixels away, and a square's pixels with that apron stay in cache,
     // where rows of blocks would stream many megabytes of reservoirs per row.
     template <class BlockBody>
     void for_each_block(BlockBody&& body) {
-        const std::uint32_t columns = (r.settings_.width + pixel_block - 1u) / pixel_block;
-        const std::uint32_t rows = (r.settings_.height + pixel_block - 1u) / pixel_block;
+        const std::uint32_t columns = (settings.width + pixel_block - 1u) / pixel_block;
+        const std::uint32_t rows = (settings.height + pixel_block - 1u) / pixel_block;
         arena.execute([&] {
             tbb::parallel_for(
                 tbb::blocked_range2d<std::uint32_t>(0u, rows, 8u, 0u, columns, 8u),
@@ -202,16 +309,16 @@ struct Renderer::Impl {
         std::size_t n = 0;
         for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
             float jx = 0.5f, jy = 0.5f;
-            if (r.settings_.antialias) {
-                restir::Pcg32 rng = restir::make_pixel_rng(i, frame_index, 0u, r.settings_.seed);
+            if (settings.antialias) {
+                restir::Pcg32 rng = restir::make_pixel_rng(i, frame_index, 0u, settings.seed);
                 jx = next_float(rng);
                 jy = next_float(rng);
             }
             directions[n++] =
                 camera.direction({static_cast<float>(x) + jx, static_cast<float>(y) + jy});
         });
-        r.rays_.closest_hits(camera.position(), std::span(directions.data(), n),
-                             std::span(hits.data(), n));
+        rays.closest_hits(camera.position(), std::span(directions.data(), n),
+                          std::span(hits.data(), n));
         n = 0;
         for_each_pixel_of(block, [&](std::uint32_t, std::uint32_t, std::uint32_t i) {
             surfaces[i] = hits[n].found ? surface_at(hits[n], directions[n]) : GSurface{};
@@ -238,8 +345,8 @@ struct Renderer::Impl {
             to[n] = segment.to;
             pixel[n++] = i;
         });
-        r.rays_.occluded_segments(std::span(from.data(), n), std::span(to.data(), n),
-                                  std::span(blocked.data(), n));
+        rays.occluded_segments(std::span(from.data(), n), std::span(to.data(), n),
+                               std::span(blocked.data(), n));
         for (std::size_t k = 0; k < n; ++k)
             restir::apply_visibility(reservoir(pixel[k]), blocked[k] == 0u);
     }
@@ -299,8 +406,8 @@ struct Renderer::Impl {
                 to[n++] = segment.to;
             }
         });
-        r.rays_.occluded_segments(std::span(from.data(), n), std::span(to.data(), n),
-                                  std::span(blocked.data(), n));
+        rays.occluded_segments(std::span(from.data(), n), std::span(to.data(), n),
+                               std::span(blocked.data(), n));
         n = 0;
         for (std::size_t c = 0; c < k; ++c)
             for (std::uint32_t j = 0; j < caches[c].count; ++j)
@@ -367,7 +474,7 @@ struct Renderer::Impl {
         tiles = {tile_planes.data(), tile_references.data(), tile_count, tile_size};
         const restir::PowerLightSampler power{light_table.view()};
         const restir::UniformLightSampler uniform{lights.light_count()};
-        const std::uint64_t seed = r.settings_.seed;
+        const std::uint64_t seed = settings.seed;
         arena.execute([&] {
             tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0u, tile_count * tile_size, 256u),
                               [&](const tbb::blocked_range<std::uint32_t>& range) {
@@ -375,7 +482,7 @@ struct Renderer::Impl {
                                       restir::Pcg32 rng =
                                           restir::make_pixel_rng(i, frame_index, 50u, seed);
                                       const restir::PresampledLight entry =
-                                          r.settings_.source == CandidateSource::power
+                                          settings.source == CandidateSource::power
                                               ? restir::presample_light(power, lights, rng)
                                               : restir::presample_light(uniform, lights, rng);
                                       tiles.store(i / tile_size, i % tile_size, entry, falloff);
@@ -388,7 +495,7 @@ struct Renderer::Impl {
     // blocks of 8 consecutive entries: sampling/ris_batch.hpp).
     Reservoir initial_reservoir(std::uint32_t x, std::uint32_t y, std::uint32_t frame_index,
                                 const GSurface& s, restir::Pcg32& rng) const {
-        const std::uint32_t blocks_per_row = (r.settings_.width + pixel_block - 1u) / pixel_block;
+        const std::uint32_t blocks_per_row = (settings.width + pixel_block - 1u) / pixel_block;
         const std::uint32_t tile =
             tiles.tile_for(x / pixel_block + (y / pixel_block) * blocks_per_row, frame_index);
         // Candidate blocks walk the tile's blocks from a random start with a random odd stride:
@@ -399,7 +506,7 @@ struct Renderer::Impl {
         const std::uint32_t stride = rng.next_uint() | 1u;
         const glm::vec3 channel_weights = s.albedo * inv_pi;
         const auto picked = restir::resample_ris_batch<block_size>(
-            rng, r.settings_.candidates,
+            rng, settings.candidates,
             [&](std::uint32_t b, restir::CandidateBlock<block_size>& block) {
                 const std::uint32_t first = ((start + b * stride) & block_mask) * block_size;
                 return restir::evaluate_tile_block<block_size, target_norm>(
@@ -451,7 +558,7 @@ struct Renderer::Impl {
         const Impl* im = nullptr;
         restir::PixelCoord operator()(restir::PixelCoord p) const {
             const GSurface& s = im->surfaces[static_cast<std::size_t>(p.x) +
-                                             static_cast<std::size_t>(p.y) * im->r.settings_.width];
+                                             static_cast<std::size_t>(p.y) * im->settings.width];
             glm::vec2 q;
             if (!im->previous_camera.project(s.position, q))
                 return {-1, -1};
@@ -461,26 +568,19 @@ struct Renderer::Impl {
     };
     using DiFrame = restir::DiFrame<restir::LightPointSample, GSurface, CameraReprojection>;
 
+    // The settings' recipe, a spatial radius of 0 made 30 px per 1080 rows (at least 3).
     restir::DiFrameParams di_frame_params() const {
-        const RenderSettings& rs = r.settings_;
-        restir::DiFrameParams p = restir::default_di_frame_params();
-        p.reuse = {rs.bias_correction, rs.visibility_reuse, rs.mis_rays};
-        p.temporal.history_cap_multiplier = rs.history_cap;
-        p.temporal.permutation_sampling = rs.permutation_sampling;
-        p.spatial.neighbour_count = rs.neighbours;
-        p.spatial.radius = rs.radius > 0.0f
-                               ? rs.radius
-                               : std::max(3.0f, 30.0f * static_cast<float>(rs.height) / 1080.0f);
-        p.spatial_passes = rs.spatial_passes;
-        p.boiling_filter = rs.boiling_threshold > 0.0f;
-        p.boiling.threshold = rs.boiling_threshold;
+        restir::DiFrameParams p = settings.di_frame;
+        if (!(p.spatial.radius > 0.0f))
+            p.spatial.radius =
+                std::max(3.0f, 30.0f * static_cast<float>(settings.height) / 1080.0f);
         p.deferred_visibility = true; // test_visibility and trace_mis_rays trace in packets
         return p;
     }
     // This frame's recipe; `history` false after a new VPL set (last frame's samples belong to
     // another integrand) and in frame 0.
     DiFrame di_frame(std::uint32_t frame, bool history) const {
-        const std::uint32_t w = r.settings_.width, h = r.settings_.height;
+        const std::uint32_t w = settings.width, h = settings.height;
         DiFrame f{.params = di_frame_params(),
                   .frame_index = frame,
                   .surfaces = {surfaces.data(), w, h},
@@ -493,7 +593,7 @@ struct Renderer::Impl {
         return f;
     }
     restir::ImageView<const Reservoir> view_of(const ReservoirBuffer& buffer) const {
-        return {buffer.data(), r.settings_.width, r.settings_.height};
+        return {buffer.data(), settings.width, settings.height};
     }
     static restir::PixelCoord coord(std::uint32_t x, std::uint32_t y) {
         return {static_cast<std::int32_t>(x), static_cast<std::int32_t>(y)};
@@ -513,7 +613,7 @@ struct Renderer::Impl {
                 if (!surfaces[i].valid)
                     return;
                 restir::Pcg32 rng = restir::make_pixel_rng(
-                    i, f.frame_index, restir::DiStream::initial, r.settings_.seed);
+                    i, f.frame_index, restir::DiStream::initial, settings.seed);
                 reservoirs[i] = initial_reservoir(x, y, f.frame_index, surfaces[i], rng);
             });
             // The recipe's `initial` with deferred visibility: this packet.
@@ -527,7 +627,6 @@ struct Renderer::Impl {
     // towards the history's surface traced ahead, and the results that a spatial pass reads
     // retested (a pixel that kept its own sample needs no ray).
     void di_temporal(const DiFrame& f) {
-        const RenderSettings& rs = r.settings_;
         const auto reservoir_at = [this](std::uint32_t i) -> Reservoir& { return reservoirs[i]; };
         const auto scratch_at = [this](std::uint32_t i) -> Reservoir& { return scratch[i]; };
         const bool mis_rays = f.mis_weights_trace_rays();
@@ -551,8 +650,8 @@ struct Renderer::Impl {
                     caches);
             k = 0;
             for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
-                restir::Pcg32 rng =
-                    restir::make_pixel_rng(i, f.frame_index, restir::DiStream::temporal, rs.seed);
+                restir::Pcg32 rng = restir::make_pixel_rng(
+                    i, f.frame_index, restir::DiStream::temporal, settings.seed);
                 scratch[i] = f.temporal_combine(coord(x, y), reservoirs[i], inputs[k],
                                                 cached_bridge(caches[k]), rng);
                 ++k;
@@ -570,7 +669,6 @@ struct Renderer::Impl {
     // rays from each pixel's own sample towards them traced, then the reservoirs combined with a
     // bridge that answers those rays and targets from the cache).
     void di_spatial(const DiFrame& f, std::uint32_t pass) {
-        const RenderSettings& rs = r.settings_;
         const auto reservoir_at = [this](std::uint32_t i) -> Reservoir& { return reservoirs[i]; };
         const auto scratch_at = [this](std::uint32_t i) -> Reservoir& { return scratch[i]; };
         const restir::ImageView<const Reservoir> input = view_of(reservoirs);
@@ -584,7 +682,7 @@ struct Renderer::Impl {
             std::uint32_t k = 0;
             for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
                 rngs[k] = restir::make_pixel_rng(i, f.frame_index, restir::DiStream::spatial + pass,
-                                                 rs.seed);
+                                                 settings.seed);
                 const auto set =
                     f.spatial_neighbours(coord(x, y), input, restir::AnyMaterial{}, rngs[k]);
                 for (std::uint32_t j = 0; j < set.size(); ++j)
@@ -633,7 +731,6 @@ struct Renderer::Impl {
     // Stage 5 and shading: the final visibility ray, which with visibility reuse zeroes W of an
     // occluded sample before the reservoir becomes next frame's history.
     void di_finish_and_shade(const DiFrame& f, Image& image) {
-        const RenderSettings& rs = r.settings_;
         const auto reservoir_at = [this](std::uint32_t i) -> Reservoir& { return reservoirs[i]; };
         for_each_block([&](const PixelBlock& block) {
             test_visibility(block, reservoir_at, [&](std::uint32_t i) {
@@ -645,10 +742,11 @@ struct Renderer::Impl {
                 if (s.valid) {
                     // The recipe's `finish` with deferred visibility: the packet above.
                     const Reservoir& reservoir = reservoirs[i];
-                    color = s.emitted +
-                            (rs.visibility_reuse ? unshadowed(reservoir, s) : shade(reservoir, s));
-                    if (rs.gi == GlobalIllumination::path) {
-                        restir::Pcg32 rng = restir::make_pixel_rng(i, f.frame_index, 100u, rs.seed);
+                    color = s.emitted + (f.params.reuse.visibility_reuse ? unshadowed(reservoir, s)
+                                                                         : shade(reservoir, s));
+                    if (settings.gi == GlobalIllumination::path) {
+                        restir::Pcg32 rng =
+                            restir::make_pixel_rng(i, f.frame_index, 100u, settings.seed);
                         color += path_radiance(s, rng, false, true);
                     }
                 }
@@ -711,13 +809,13 @@ struct Renderer::Impl {
     }
 
     glm::vec3 vpl_nee(const GSurface& s, restir::Pcg32& rng) const {
-        if (r.vpls_.empty())
+        if (vpls.empty())
             return glm::vec3(0.0f);
         const restir::DiscreteSample c =
             restir::sample_light(restir::PowerLightSampler{vpl_table.view()}, rng);
         if (!(c.pmf > 0.0f))
             return glm::vec3(0.0f);
-        const restir::LightSampleRef ref{r.emitters_.light_count() + c.index, {0.0f, 0.0f}};
+        const restir::LightSampleRef ref{emitters.light_count() + c.index, {0.0f, 0.0f}};
         if (!visible(ref, s))
             return glm::vec3(0.0f);
         return reflected(s, lights.sample_point(ref.light_id, ref.uv)) / c.pmf;
@@ -727,7 +825,7 @@ struct Renderer::Impl {
     // front side.
     GSurface surface_at(const Hit& hit, glm::vec3 direction) const {
         GSurface s;
-        const Material& m = r.scene_.materials[r.scene_.triangle_materials[hit.triangle]];
+        const Material& m = scene.materials[scene.triangle_materials[hit.triangle]];
         const bool front = glm::dot(hit.normal, direction) < 0.0f;
         s.valid = true;
         s.position = hit.position;
@@ -751,22 +849,22 @@ struct Renderer::Impl {
         for (std::uint32_t depth = 0;; ++depth) {
             if (direct)
                 radiance += throughput * emitter_nee(s, rng);
-            if (depth + 1 >= r.settings_.max_depth || (!direct && !bounce_further && depth > 0))
+            if (depth + 1 >= settings.max_depth || (!direct && !bounce_further && depth > 0))
                 break;
             const glm::vec3 direction = sample_cosine(s.normal, rng);
-            const Hit hit = r.rays_.closest_hit(s.position + s.normal * ray_offset, direction);
+            const Hit hit = rays.closest_hit(s.position + s.normal * ray_offset, direction);
             if (!hit.found)
                 break;
             throughput *= s.albedo; // f cos / pdf of cosine sampling
-            const std::uint32_t emitter = r.emitters_.emitter_of_triangle(hit.triangle);
+            const std::uint32_t emitter = emitters.emitter_of_triangle(hit.triangle);
             if (direct && emitter != TriangleEmitters::none &&
                 glm::dot(hit.normal, direction) < 0.0f) {
                 const float cos_light = -glm::dot(hit.normal, direction);
-                const float light_pdf = emitter_table.pmf(emitter) / r.emitters_.area(emitter) *
+                const float light_pdf = emitter_table.pmf(emitter) / emitters.area(emitter) *
                                         hit.distance * hit.distance / cos_light;
                 const float bsdf_pdf = glm::dot(s.normal, direction) * inv_pi;
-                radiance += throughput * r.emitters_.radiance(emitter) *
-                            (bsdf_pdf / (bsdf_pdf + light_pdf));
+                radiance +=
+                    throughput * emitters.radiance(emitter) * (bsdf_pdf / (bsdf_pdf + light_pdf));
             }
             if (!bounce_further)
                 break;
@@ -781,6 +879,137 @@ struct Renderer::Impl {
         }
         return radiance;
     }
+
+    // --- Frames ----------------------------------------------------------------------------
+
+    // The next frame, added to the accumulation; the first frame's timings (and those of a
+    // frame with a new VPL set) include photon shooting.
+    FrameTimings render_frame() {
+        FrameTimings t;
+        const auto frame_start = Clock::now();
+        const bool new_vpl_set = reshoot_vpls();
+        if (frames_rendered == 0 || new_vpl_set)
+            t.photons = photon_ms;
+        if (settings.motion == CameraMotion::orbit)
+            orbit_camera(frames_rendered);
+        if (settings.method == Method::restir)
+            restir_frame(frames_rendered, !new_vpl_set, frame_image, t);
+        else
+            independent_frame(frames_rendered, t);
+        accumulate();
+        t.total = milliseconds_since(frame_start);
+        return t;
+    }
+
+    // A new VPL set every `vpl_reshoot_interval` frames: true when this frame shot one.
+    // Temporal reuse skips that frame (as after a camera cut): the history's samples belong to
+    // the old set, which is not this frame's integrand (docs/noise-and-bias.md).
+    bool reshoot_vpls() {
+        const std::uint32_t interval = settings.vpl_reshoot_interval;
+        const bool new_vpl_set =
+            frames_rendered > 0 && interval > 0 && frames_rendered % interval == 0;
+        if (new_vpl_set)
+            shoot_vpls(frames_rendered / interval);
+        return new_vpl_set;
+    }
+
+    // The camera of frame `frame` turned about the look-at point, last frame's kept for
+    // reprojection.
+    void orbit_camera(std::uint32_t frame) {
+        CameraSetup setup = settings.camera;
+        const float angle = 0.004f * static_cast<float>(frame);
+        const glm::vec3 offset = setup.look_from - setup.look_at;
+        setup.look_from =
+            setup.look_at + glm::vec3(offset.x * std::cos(angle) + offset.z * std::sin(angle),
+                                      offset.y,
+                                      -offset.x * std::sin(angle) + offset.z * std::cos(angle));
+        previous_camera = camera;
+        camera = Camera(setup, settings.width, settings.height);
+    }
+
+    // uniform, ris and reference: `spp` independent samples per pixel, each with its own
+    // G-buffer (and light tiles for ris), averaged into the frame image.
+    void independent_frame(std::uint32_t frame, FrameTimings& t) {
+        std::fill(frame_image.pixels.begin(), frame_image.pixels.end(), glm::vec3(0.0f));
+        for (std::uint32_t sample = 0; sample < settings.spp; ++sample) {
+            const std::uint32_t index = frame * settings.spp + sample;
+            auto start = Clock::now();
+            for_each_block([&](const PixelBlock& block) { trace_primary(block, index); });
+            t.primary += milliseconds_since(start);
+            if (settings.method == Method::ris) {
+                start = Clock::now();
+                fill_tiles(index);
+                t.tiles += milliseconds_since(start);
+            }
+            start = Clock::now();
+            const auto shade = [&](const PixelBlock& block) { shade_independent(block, index); };
+            if (settings.method == Method::ris)
+                for_each_block_by_tile(index, shade);
+            else
+                for_each_block(shade);
+            t.shading += milliseconds_since(start);
+        }
+    }
+
+    // Sample `index` of a block's pixels, added to the frame image with weight 1 / spp.
+    // uniform and ris: one light sample per pixel as a reservoir (uniform: one candidate,
+    // W = 1 / p), their shadow rays as one packet; reference: a path per pixel.
+    void shade_independent(const PixelBlock& block, std::uint32_t index) {
+        std::array<Reservoir, pixel_block * pixel_block> picked;
+        std::array<restir::Pcg32, pixel_block * pixel_block> rngs;
+        const auto local = [&block, this](std::uint32_t i) {
+            return (i / settings.width - block.y0) * pixel_block + i % settings.width - block.x0;
+        };
+        const bool light_sample = settings.method != Method::reference;
+        for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
+            restir::Pcg32& rng = rngs[local(i)];
+            rng = restir::make_pixel_rng(i, index, 1u, settings.seed);
+            Reservoir& reservoir = picked[local(i)];
+            reservoir = Reservoir{};
+            const GSurface& s = surfaces[i];
+            if (!s.valid || !light_sample)
+                return;
+            reservoir = settings.method == Method::ris ? initial_reservoir(x, y, index, s, rng)
+                                                       : uniform_reservoir(s, rng);
+        });
+        if (light_sample)
+            test_visibility(block, [&](std::uint32_t i) -> Reservoir& { return picked[local(i)]; });
+        for_each_pixel_of(block, [&](std::uint32_t, std::uint32_t, std::uint32_t i) {
+            const GSurface& s = surfaces[i];
+            if (s.valid)
+                frame_image.pixels[i] += independent_radiance(s, picked[local(i)], rngs[local(i)]) /
+                                         static_cast<float>(settings.spp);
+        });
+    }
+
+    // The radiance of one independent sample at a visible surface: its emission and, with a
+    // visible light sample `picked` (uniform, ris), that sample's light, or (reference) a
+    // path's; plus the indirect light that --gi asks for.
+    glm::vec3 independent_radiance(const GSurface& s, const Reservoir& picked,
+                                   restir::Pcg32& rng) const {
+        const bool gi_path = settings.gi == GlobalIllumination::path;
+        glm::vec3 color = s.emitted;
+        if (settings.method == Method::reference) {
+            color += path_radiance(s, rng, true, gi_path);
+            if (settings.gi == GlobalIllumination::vpl)
+                color += vpl_nee(s, rng);
+        } else {
+            color += unshadowed(picked, s);
+            if (gi_path)
+                color += path_radiance(s, rng, false, true);
+        }
+        return color;
+    }
+
+    // The frame image added to the sum; the accumulation is the sum's average.
+    void accumulate() {
+        ++frames_rendered;
+        const double inverse = 1.0 / frames_rendered;
+        for (std::size_t i = 0; i < sum.size(); ++i) {
+            sum[i] += glm::dvec3(frame_image.pixels[i]);
+            accumulated.pixels[i] = glm::vec3(sum[i] * inverse);
+        }
+    }
 };
 
 std::uint64_t estimated_memory_bytes(const RenderSettings& settings, bool with_reference) {
@@ -792,200 +1021,22 @@ std::uint64_t estimated_memory_bytes(const RenderSettings& settings, bool with_r
 }
 
 Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
-    : scene_(scene), settings_(settings), rays_(scene), emitters_(scene),
-      accumulated_(settings.width, settings.height), frame_image_(settings.width, settings.height),
-      sum_(std::size_t{settings.width} * settings.height, glm::dvec3(0.0)) {
-    if (emitters_.light_count() == 0)
-        throw SceneError("scene '" + scene.name +
-                         "' has no emitters: give some material a positive Ke");
-    impl_ = std::make_unique<Impl>(*this);
-    Impl& im = *impl_;
-
-    im.scene_size = scene_size(scene);
-    im.ray_offset = 1e-4f * im.scene_size;
-    im.falloff = restir::Falloff::yuksel(
-        settings.attenuation_radius > 0.0f ? settings.attenuation_radius : 0.02f * im.scene_size);
-    im.camera = Camera(settings.camera, settings.width, settings.height);
-    im.previous_camera = im.camera;
-
-    shoot_vpls(0u);
-
-    const std::size_t pixels = std::size_t{settings.width} * settings.height;
-    im.surfaces.resize(pixels);
-    im.previous_surfaces.resize(pixels);
-    if (settings.method == Method::restir) {
-        im.reservoirs.resize(pixels);
-        im.previous_reservoirs.resize(pixels);
-        im.scratch.resize(pixels);
-    }
-}
+    : impl_(std::make_unique<Impl>(scene, settings)) {}
 
 Renderer::~Renderer() = default;
 
-void Renderer::shoot_vpls(std::uint32_t generation) {
-    Impl& im = *impl_;
-    if (settings_.gi == GlobalIllumination::vpl && settings_.vpls > 0) {
-        const auto start = Clock::now();
-        restir::PhotonParams params = restir::default_photon_params();
-        params.max_bounces = settings_.vpl_bounces;
-        params.ray_offset = im.ray_offset;
-        // Set 0 keeps the seed itself; later sets are independent of it and of each other.
-        params.seed = generation == 0u
-                          ? settings_.vpl_seed
-                          : restir::mix64(settings_.vpl_seed ^ restir::mix64(generation));
-        const LambertianScatter scatter{&scene_};
-        const auto parallel_for = [&im](std::uint32_t count, auto&& body) {
-            im.arena.execute(
-                [&] { tbb::parallel_for(0u, count, [&](std::uint32_t i) { body(i); }); });
-        };
-        if (!photons_per_set_) {
-            // A pilot pass measures VPLs per photon, so that the budget gives about `vpls` VPLs,
-            // with at most 64 photons per VPL asked for; a pilot that leaves no VPL at all (no
-            // surface reflects) means no VPLs, not a hundred million more photons.
-            params.photon_count = std::min<std::uint32_t>(settings_.vpls, 4096u);
-            const std::size_t pilot =
-                restir::shoot_photons(emitters_, rays_, scatter, params, parallel_for).size();
-            const double per_photon = static_cast<double>(pilot) / params.photon_count;
-            photons_per_set_ =
-                pilot == 0u ? 0u
-                            : static_cast<std::uint32_t>(std::clamp(
-                                  std::ceil(settings_.vpls / per_photon), 1.0,
-                                  std::min(4.0e9, 64.0 * static_cast<double>(settings_.vpls))));
-        }
-        params.photon_count = *photons_per_set_;
-        vpls_ = params.photon_count > 0u
-                    ? restir::shoot_photons(emitters_, rays_, scatter, params, parallel_for)
-                    : std::vector<restir::Vpl>{};
-        photon_ms_ = milliseconds_since(start);
-    }
+FrameTimings Renderer::render_frame() { return impl_->render_frame(); }
 
-    im.lights = Unified{&emitters_, vpls_.data(), static_cast<std::uint32_t>(vpls_.size())};
-    const std::vector<float> powers = restir::unified_light_powers(im.lights);
-    // unified_light_powers gives a power that overflows a float as 0; a shining emitter with
-    // power 0 would never be sampled (and alone gives "all weights are zero"). Emitters do not
-    // change between VPL sets: checked once.
-    for (std::uint32_t e = 0; generation == 0u && e < emitters_.light_count(); ++e) {
-        const glm::vec3 radiance = emitters_.radiance(e);
-        if (!(powers[e] > 0.0f) && radiance.x + radiance.y + radiance.z > 0.0f)
-            throw SceneError("emitter " + std::to_string(e) + " of scene '" + scene_.name +
-                             "' has no float power: too bright (lower its Ke) or too small");
-    }
-    im.light_table.build(powers);
-    im.emitter_table.build(std::span<const float>(powers.data(), emitters_.light_count()));
-    if (!vpls_.empty())
-        im.vpl_table.build(
-            std::span<const float>(powers.data() + emitters_.light_count(), vpls_.size()));
-}
+const Image& Renderer::accumulated() const { return impl_->accumulated; }
+const Image& Renderer::last_frame() const { return impl_->frame_image; }
+std::uint32_t Renderer::frames_rendered() const { return impl_->frames_rendered; }
+std::uint32_t Renderer::photons_per_set() const { return impl_->photons_per_set.value_or(0u); }
+const std::vector<restir::Vpl>& Renderer::vpls() const { return impl_->vpls; }
+std::uint32_t Renderer::emitter_count() const { return impl_->emitters.light_count(); }
 
 std::size_t Renderer::surface_pixel_count() const {
     return static_cast<std::size_t>(std::count_if(impl_->surfaces.begin(), impl_->surfaces.end(),
                                                   [](const GSurface& s) { return s.valid; }));
-}
-
-FrameTimings Renderer::render_frame() {
-    Impl& im = *impl_;
-    FrameTimings t;
-    const auto frame_start = Clock::now();
-    const RenderSettings& rs = settings_;
-    // A new VPL set every `vpl_reshoot_interval` frames. Temporal reuse skips that frame (as
-    // after a camera cut): the history's samples belong to the old set, which is not this
-    // frame's integrand (docs/noise-and-bias.md).
-    const bool new_vpl_set =
-        frame_ > 0 && rs.vpl_reshoot_interval > 0 && frame_ % rs.vpl_reshoot_interval == 0;
-    if (new_vpl_set)
-        shoot_vpls(frame_ / rs.vpl_reshoot_interval);
-    if (frame_ == 0 || new_vpl_set)
-        t.photons = photon_ms_;
-    const std::uint64_t seed = rs.seed;
-    const std::uint32_t frame = frame_;
-
-    if (rs.motion == CameraMotion::orbit) {
-        CameraSetup setup = rs.camera;
-        const float angle = 0.004f * static_cast<float>(frame);
-        const glm::vec3 offset = setup.look_from - setup.look_at;
-        setup.look_from =
-            setup.look_at + glm::vec3(offset.x * std::cos(angle) + offset.z * std::sin(angle),
-                                      offset.y,
-                                      -offset.x * std::sin(angle) + offset.z * std::cos(angle));
-        im.previous_camera = im.camera;
-        im.camera = Camera(setup, rs.width, rs.height);
-    }
-
-    const bool gi_path = rs.gi == GlobalIllumination::path;
-
-    if (rs.method == Method::restir) {
-        im.restir_frame(frame, !new_vpl_set, frame_image_, t);
-    } else {
-        // uniform, ris, reference: independent samples, spp per frame.
-        std::fill(frame_image_.pixels.begin(), frame_image_.pixels.end(), glm::vec3(0.0f));
-        for (std::uint32_t sample = 0; sample < rs.spp; ++sample) {
-            const std::uint32_t index = frame * rs.spp + sample;
-            auto start = Clock::now();
-            im.for_each_block(
-                [&](const Impl::PixelBlock& block) { im.trace_primary(block, index); });
-            t.primary += milliseconds_since(start);
-            if (rs.method == Method::ris) {
-                start = Clock::now();
-                im.fill_tiles(index);
-                t.tiles += milliseconds_since(start);
-            }
-            start = Clock::now();
-            // uniform and ris: one light sample per pixel as a reservoir (uniform: one candidate,
-            // W = 1 / p), their shadow rays as one packet per block.
-            const auto shade_block = [&](const Impl::PixelBlock& block) {
-                std::array<Reservoir, Impl::pixel_block * Impl::pixel_block> picked;
-                std::array<restir::Pcg32, Impl::pixel_block * Impl::pixel_block> rngs;
-                const auto local = [&block, &rs](std::uint32_t i) {
-                    return (i / rs.width - block.y0) * Impl::pixel_block + i % rs.width - block.x0;
-                };
-                im.for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
-                    restir::Pcg32& rng = rngs[local(i)];
-                    rng = restir::make_pixel_rng(i, index, 1u, seed);
-                    Reservoir& reservoir = picked[local(i)];
-                    reservoir = Reservoir{};
-                    const GSurface& s = im.surfaces[i];
-                    if (!s.valid || rs.method == Method::reference)
-                        return;
-                    reservoir = rs.method == Method::ris ? im.initial_reservoir(x, y, index, s, rng)
-                                                         : im.uniform_reservoir(s, rng);
-                });
-                if (rs.method != Method::reference)
-                    im.test_visibility(
-                        block, [&](std::uint32_t i) -> Reservoir& { return picked[local(i)]; });
-                im.for_each_pixel_of(block, [&](std::uint32_t, std::uint32_t, std::uint32_t i) {
-                    const GSurface& s = im.surfaces[i];
-                    if (!s.valid)
-                        return;
-                    restir::Pcg32& rng = rngs[local(i)];
-                    glm::vec3 color = s.emitted;
-                    if (rs.method == Method::reference) {
-                        color += im.path_radiance(s, rng, true, gi_path);
-                        if (rs.gi == GlobalIllumination::vpl)
-                            color += im.vpl_nee(s, rng);
-                    } else {
-                        color += im.unshadowed(picked[local(i)], s);
-                        if (gi_path)
-                            color += im.path_radiance(s, rng, false, true);
-                    }
-                    frame_image_.pixels[i] += color / static_cast<float>(rs.spp);
-                });
-            };
-            if (rs.method == Method::ris)
-                im.for_each_block_by_tile(index, shade_block);
-            else
-                im.for_each_block(shade_block);
-            t.shading += milliseconds_since(start);
-        }
-    }
-
-    ++frame_;
-    const double inverse = 1.0 / frame_;
-    for (std::size_t i = 0; i < sum_.size(); ++i) {
-        sum_[i] += glm::dvec3(frame_image_.pixels[i]);
-        accumulated_.pixels[i] = glm::vec3(sum_[i] * inverse);
-    }
-    t.total = milliseconds_since(frame_start);
-    return t;
 }
 
 } // namespace pt

@@ -2,17 +2,13 @@
 // the library's methods, optional path-traced indirect light, accumulated over frames.
 #pragma once
 
-#include "camera.hpp"
-#include "embree_scene.hpp"
 #include "image_io.hpp"
-#include "lights.hpp"
 #include "scene.hpp"
 
 #include <restir/restir.hpp>
 
 #include <cstdint>
 #include <memory>
-#include <optional>
 #include <vector>
 
 namespace pt {
@@ -44,31 +40,42 @@ struct RenderSettings {
     std::uint32_t threads = 0; ///< 0: all hardware threads.
     bool antialias = false;    ///< Jitter primary rays in the pixel (off: pixel centres, so
                                ///< that error measurements see lighting noise only).
-    // Library parameters.
+    /// RIS candidates per pixel (ris, restir).
     std::uint32_t candidates = 32;
-    std::uint32_t neighbours = 5;
-    float radius = 0.0f; ///< Spatial radius in pixels; 0: 30 px per 1080 rows (the paper's 30
-                         ///< at 1080p), at least 3.
-    std::uint32_t spatial_passes = 1;
-    /// History M cap (multiple of the current M) and permutation sampling: chosen for the
-    /// accumulated image, where the paper's cap of 20 without permutation made consecutive
-    /// frames so alike that averaging them gained little (docs/noise-and-bias.md).
-    std::uint32_t history_cap = 4;
-    bool permutation_sampling = true; ///< restir::TemporalParams::permutation_sampling.
-    /// Boiling filter threshold (restir::boiling_filter, 9 x 9 window) after the spatial
-    /// passes; 0: off (the filter removes energy, so it is biased).
-    float boiling_threshold = 0.0f;
-    restir::BiasCorrection bias_correction = restir::BiasCorrection::pairwise;
-    bool visibility_reuse = true;
-    bool mis_rays = true;          ///< restir::ReuseParams::trace_mis_visibility.
-    std::uint32_t vpls = 100'000;  ///< About this many VPLs (gi vpl).
-    std::uint32_t vpl_bounces = 8; ///< Photon bounce limit.
+    /// The ReSTIR frame (restir::DiFrame), as restir-render's defaults have it.
+    restir::DiFrameParams di_frame = default_di_frame_settings();
+    std::uint32_t vpls = 100'000; ///< About this many VPLs (gi vpl).
+    /// The photons of a VPL set: `max_bounces` and `seed` (the first set's; later sets follow
+    /// it) are settings; the renderer sets `photon_count` (from `vpls`) and `ray_offset`.
+    restir::PhotonParams photons = default_photon_settings();
     /// A new, independent VPL set every this many frames (0: one set for the whole render), so
     /// that the accumulated image converges to the path-traced answer, not to one set's.
     std::uint32_t vpl_reshoot_interval = 0;
-    std::uint64_t vpl_seed = 0;      ///< Seed of the photons (the first set; later sets follow it).
     float attenuation_radius = 0.0f; ///< Yuksel radius for VPLs; 0: 2 % of the scene's size.
     std::uint32_t max_depth = 8;     ///< Path length limit (reference, gi path).
+
+    /// The library's frame recipe with restir-render's defaults: 5 neighbours, a spatial
+    /// radius of 0 (the renderer makes it 30 px per 1080 rows, the paper's 30 at 1080p, at
+    /// least 3), a history cap of 4 with permutation sampling (for the accumulated image: the
+    /// paper's cap of 20 without permutation made consecutive frames so alike that averaging
+    /// them gained little, docs/noise-and-bias.md), and the boiling filter off with a
+    /// threshold of 0 (it removes energy, so it is biased). The renderer sets
+    /// `deferred_visibility`: it traces the stages' rays itself, in packets.
+    static restir::DiFrameParams default_di_frame_settings() {
+        restir::DiFrameParams p = restir::default_di_frame_params();
+        p.spatial.neighbour_count = 5;
+        p.spatial.radius = 0.0f;
+        p.temporal.history_cap_multiplier = 4;
+        p.temporal.permutation_sampling = true;
+        p.boiling.threshold = 0.0f;
+        return p;
+    }
+    /// The library's photon settings with up to 8 bounces.
+    static restir::PhotonParams default_photon_settings() {
+        restir::PhotonParams p = restir::default_photon_params();
+        p.max_bounces = 8;
+        return p;
+    }
 };
 
 /// Milliseconds per phase of one frame: `tiles` is the light-tile fill, `candidates` the
@@ -99,40 +106,23 @@ public:
     FrameTimings render_frame();
 
     /// Average of the frames rendered so far.
-    const Image& accumulated() const { return accumulated_; }
+    const Image& accumulated() const;
     /// The last frame alone.
-    const Image& last_frame() const { return frame_image_; }
-    std::uint32_t frames_rendered() const { return frame_; }
-    std::size_t vpl_count() const { return vpls_.size(); }
+    const Image& last_frame() const;
+    std::uint32_t frames_rendered() const;
+    std::size_t vpl_count() const { return vpls().size(); }
     /// Photons shot per VPL set (0 when the pilot pass left no VPL, or without VPLs).
-    std::uint32_t photons_per_set() const { return photons_per_set_.value_or(0u); }
+    std::uint32_t photons_per_set() const;
     /// The VPL set of the last frame (a new one every `vpl_reshoot_interval` frames).
-    const std::vector<restir::Vpl>& vpls() const { return vpls_; }
+    const std::vector<restir::Vpl>& vpls() const;
     /// Pixels whose primary ray found a surface in the last frame (the pixels that sample
     /// lights; per-pixel costs in docs/performance.md are per such pixel).
     std::size_t surface_pixel_count() const;
-    std::uint32_t emitter_count() const { return emitters_.light_count(); }
+    std::uint32_t emitter_count() const;
 
 private:
     struct Impl;
-    friend struct Impl;
-
-    /// Shoots VPL set `generation` (0: the first, from the VPL seed) and rebuilds the light
-    /// set and its sampling tables.
-    void shoot_vpls(std::uint32_t generation);
-
-    const Scene& scene_;
-    RenderSettings settings_;
-    EmbreeScene rays_;
-    TriangleEmitters emitters_;
-    std::vector<restir::Vpl> vpls_;
-    double photon_ms_ = 0.0;                       ///< Time of the last photon shooting.
-    std::optional<std::uint32_t> photons_per_set_; ///< From the pilot pass of the first set.
     std::unique_ptr<Impl> impl_;
-    Image accumulated_;
-    Image frame_image_;
-    std::vector<glm::dvec3> sum_;
-    std::uint32_t frame_ = 0;
 };
 
 } // namespace pt

@@ -28,7 +28,7 @@ pt::RenderSettings tiny(const pt::Scene& scene, std::uint32_t size) {
     s.height = size;
     s.camera = *scene.camera;
     s.vpls = 4000;
-    s.radius = 4.0f; // neighbours within a few pixels of these tiny images
+    s.di_frame.spatial.radius = 4.0f; // neighbours within a few pixels of these tiny images
     s.threads = 2;
     return s;
 }
@@ -209,7 +209,7 @@ TEST(Renderer, ReshotVplSetsAreNewAndEachFrameEstimatesItsOwnSet) {
     pt::RenderSettings s = tiny(scene, 24);
     s.vpls = 40;
     s.vpl_reshoot_interval = 2;
-    s.vpl_seed = 5;
+    s.photons.seed = 5;
     const auto first_position = [](const pt::Renderer& r) { return r.vpls().front().position; };
     pt::Renderer a(scene, s), b(scene, s);
     std::vector<glm::vec3> firsts;
@@ -260,7 +260,8 @@ TEST(Renderer, BoilingFilterOnlyEmptiesReservoirs) {
     const pt::Scene scene = pt::make_cornell_box();
     pt::RenderSettings s = tiny(scene, 24);
     const pt::Image plain = render(scene, s, 1);
-    s.boiling_threshold = 1.5f;
+    s.di_frame.boiling_filter = true;
+    s.di_frame.boiling.threshold = 1.5f;
     const pt::Image filtered = render(scene, s, 1);
     std::size_t darker = 0;
     for (std::size_t i = 0; i < plain.pixels.size(); ++i)
