@@ -206,12 +206,24 @@ constexpr int exr_max_side = 1 << 20;
 // Largest decoded chunk (a block of scanlines or a tile, all channels) read.
 constexpr std::uint64_t max_exr_chunk_bytes = std::uint64_t{64} << 20;
 
-ExrLayout check_exr_header(std::span<const char> bytes, const ReadLimits& limits,
-                           const std::string& file) {
-    const auto fail = [&](const std::string& why) -> void {
-        throw ImageError("cannot read " + file + " as OpenEXR: " + why);
-    };
-    ExrBytes source{bytes, {}};
+[[noreturn]] void fail_exr(const std::string& file, const std::string& why) {
+    throw ImageError("cannot read " + file + " as OpenEXR: " + why);
+}
+
+// Throws for a failed call of OpenEXR's core library, with its last message.
+struct ExrCheck {
+    const ExrBytes& source;
+    const std::string& file;
+
+    void operator()(exr_result_t result) const {
+        if (result != EXR_ERR_SUCCESS)
+            fail_exr(file, one_line(source.message.empty() ? exr_get_default_error_message(result)
+                                                           : source.message));
+    }
+};
+
+// A strict reader of `source`'s bytes, within the size limits of either reader.
+exr_context_initializer_t exr_initializer(ExrBytes& source) {
     exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
     init.error_handler_fn = exr_error;
     init.user_data = &source;
@@ -222,6 +234,49 @@ ExrLayout check_exr_header(std::span<const char> bytes, const ReadLimits& limits
     init.max_tile_width = exr_max_side;
     init.max_tile_height = exr_max_side;
     init.flags = EXR_CONTEXT_FLAG_STRICT_HEADER | EXR_CONTEXT_FLAG_DISABLE_CHUNK_RECONSTRUCTION;
+    return init;
+}
+
+// The size of the data window, within the pixel limit.
+ExrLayout exr_layout(exr_const_context_t context, const ReadLimits& limits, const ExrCheck& check) {
+    exr_attr_box2i_t window{};
+    check(exr_get_data_window(context, 0, &window));
+    ExrLayout layout;
+    if (window.max.x >= window.min.x && window.max.y >= window.min.y) {
+        layout.width = static_cast<std::uint64_t>(std::int64_t{window.max.x} - window.min.x + 1);
+        layout.height = static_cast<std::uint64_t>(std::int64_t{window.max.y} - window.min.y + 1);
+    }
+    if (layout.width == 0 || layout.height == 0)
+        fail_exr(check.file, "the data window is empty");
+    if (layout.width * layout.height > limits.max_pixels)
+        fail_exr(check.file, "it is " + std::to_string(layout.width) + "x" +
+                                 std::to_string(layout.height) + ", more than the " +
+                                 std::to_string(limits.max_pixels) + " pixels allowed");
+    return layout;
+}
+
+// The reader holds one chunk decoded (and one compressed) beside the image: a file whose
+// chunks are larger than any sensible image needs (many channels, very wide lines) is refused
+// before they are allocated. Every chunk needs an 8-byte offset and a chunk header of at least
+// 8 bytes: a file too short for its chunk table is cut short, whatever its compression.
+void check_exr_chunks(exr_const_context_t context, std::size_t file_bytes, const ExrCheck& check) {
+    std::uint64_t chunk_bytes = 0;
+    check(exr_get_chunk_unpacked_size(context, 0, &chunk_bytes));
+    if (chunk_bytes > max_exr_chunk_bytes)
+        fail_exr(check.file, "its chunks decode to " + std::to_string(chunk_bytes) +
+                                 " bytes, more than the " + std::to_string(max_exr_chunk_bytes) +
+                                 " allowed");
+    std::int32_t chunks = 0;
+    check(exr_get_chunk_count(context, 0, &chunks));
+    if (chunks <= 0 || std::uint64_t(chunks) * 16u > file_bytes)
+        fail_exr(check.file, "the file is too short for its " + std::to_string(chunks) + " chunks");
+}
+
+ExrLayout check_exr_header(std::span<const char> bytes, const ReadLimits& limits,
+                           const std::string& file) {
+    ExrBytes source{bytes, {}};
+    const ExrCheck check{source, file};
+    const exr_context_initializer_t init = exr_initializer(source);
     exr_context_t context = nullptr;
     const exr_result_t opened = exr_start_read(&context, file.c_str(), &init);
     struct Finish {
@@ -231,50 +286,19 @@ ExrLayout check_exr_header(std::span<const char> bytes, const ReadLimits& limits
                 exr_finish(context);
         }
     } finish{&context};
-    const auto check = [&](exr_result_t result) {
-        if (result != EXR_ERR_SUCCESS)
-            fail(one_line(source.message.empty() ? exr_get_default_error_message(result)
-                                                 : source.message));
-    };
     check(opened);
 
     int parts = 0;
     check(exr_get_count(context, &parts));
     if (parts != 1)
-        fail("it has " + std::to_string(parts) + " parts; only single-part files are read");
+        fail_exr(file,
+                 "it has " + std::to_string(parts) + " parts; only single-part files are read");
     exr_storage_t storage = EXR_STORAGE_LAST_TYPE;
     check(exr_get_storage(context, 0, &storage));
     if (storage != EXR_STORAGE_SCANLINE && storage != EXR_STORAGE_TILED)
-        fail("deep images are not read");
-
-    exr_attr_box2i_t window{};
-    check(exr_get_data_window(context, 0, &window));
-    ExrLayout layout;
-    if (window.max.x >= window.min.x && window.max.y >= window.min.y) {
-        layout.width = static_cast<std::uint64_t>(std::int64_t{window.max.x} - window.min.x + 1);
-        layout.height = static_cast<std::uint64_t>(std::int64_t{window.max.y} - window.min.y + 1);
-    }
-    if (layout.width == 0 || layout.height == 0)
-        fail("the data window is empty");
-    if (layout.width * layout.height > limits.max_pixels)
-        fail("it is " + std::to_string(layout.width) + "x" + std::to_string(layout.height) +
-             ", more than the " + std::to_string(limits.max_pixels) + " pixels allowed");
-
-    // The reader holds one chunk decoded (and one compressed) beside the image: a file whose
-    // chunks are larger than any sensible image needs (many channels, very wide lines) is
-    // refused before they are allocated.
-    std::uint64_t chunk_bytes = 0;
-    check(exr_get_chunk_unpacked_size(context, 0, &chunk_bytes));
-    if (chunk_bytes > max_exr_chunk_bytes)
-        fail("its chunks decode to " + std::to_string(chunk_bytes) + " bytes, more than the " +
-             std::to_string(max_exr_chunk_bytes) + " allowed");
-
-    // Every chunk needs an 8-byte offset and a chunk header of at least 8 bytes: a file too
-    // short for its chunk table is cut short, whatever its compression.
-    std::int32_t chunks = 0;
-    check(exr_get_chunk_count(context, 0, &chunks));
-    if (chunks <= 0 || std::uint64_t(chunks) * 16u > bytes.size())
-        fail("the file is too short for its " + std::to_string(chunks) + " chunks");
+        fail_exr(file, "deep images are not read");
+    const ExrLayout layout = exr_layout(context, limits, check);
+    check_exr_chunks(context, bytes.size(), check);
     return layout;
 }
 

@@ -70,137 +70,176 @@ std::string error_columns(const pt::Image& image, const std::optional<pt::Image>
     return columns;
 }
 
+// --- Scene loading ---------------------------------------------------------------------------
+
+pt::Scene load_scene(const pt::RenderOptions& options) {
+    if (options.scene == "cornell")
+        return pt::make_cornell_box();
+    if (options.scene == "many-lights")
+        return pt::make_many_lights(options.lights, options.scene_seed);
+    return pt::load_obj(options.scene);
+}
+
+// The scene's camera (or one framing its bounds) with the flags' changes, checked.
+pt::CameraSetup camera_of(const pt::Scene& scene, const pt::RenderOptions& options) {
+    const pt::RenderSettings& settings = options.settings;
+    pt::CameraSetup camera = scene.camera
+                                 ? *scene.camera
+                                 : pt::frame_bounds(scene, static_cast<float>(settings.width) /
+                                                               static_cast<float>(settings.height));
+    if (!options.look_from.empty())
+        camera.look_from = {options.look_from[0], options.look_from[1], options.look_from[2]};
+    if (!options.look_at.empty())
+        camera.look_at = {options.look_at[0], options.look_at[1], options.look_at[2]};
+    if (options.fov)
+        camera.fov_degrees = *options.fov;
+    pt::check_camera(camera);
+    return camera;
+}
+
+// --- Measurement -----------------------------------------------------------------------------
+
+// The reference image, if any: exactly the image's size (nothing larger is read), every pixel
+// finite.
+std::optional<pt::Image> read_reference(const pt::RenderOptions& options) {
+    if (options.reference.empty())
+        return std::nullopt;
+    const pt::RenderSettings& settings = options.settings;
+    pt::Image reference =
+        pt::read_image(options.reference, {std::uint64_t{settings.width} * settings.height});
+    if (reference.width != settings.width || reference.height != settings.height)
+        fail("the reference " + options.reference + " is " + std::to_string(reference.width) + "x" +
+             std::to_string(reference.height) + " but the image is " +
+             std::to_string(settings.width) + "x" + std::to_string(settings.height));
+    if (const std::size_t bad = pt::non_finite_pixels(reference); bad > 0)
+        fail("the reference " + options.reference + " has " + std::to_string(bad) +
+             " pixel(s) that are not finite");
+    return reference;
+}
+
+// The CSV file (its directory created) with its header row; closed without --csv.
+std::ofstream open_csv(const std::string& path) {
+    std::ofstream csv;
+    if (path.empty())
+        return csv;
+    const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+    std::error_code error;
+    if (!parent.empty())
+        std::filesystem::create_directories(parent, error);
+    if (error)
+        fail("cannot create the directory " + parent.string() + " for " + path + ": " +
+             error.message());
+    csv.open(path);
+    if (!csv)
+        fail("cannot write " + path);
+    csv << "frame,rmse,frame_rmse,frame_ms,elapsed_ms,primary_ms,photons_ms,candidates_ms,"
+           "temporal_ms,spatial_ms,shading_ms,tiles_ms,bias,frame_bias,"
+        << error_header() << '\n';
+    return csv;
+}
+
+// One frame's line on stdout and row of the CSV: timings and, with a reference, the error of
+// the accumulated image and of the frame alone.
+void report_frame(std::uint32_t frame, const pt::FrameTimings& t, double elapsed,
+                  const pt::Renderer& renderer, const std::optional<pt::Image>& reference,
+                  std::ofstream& csv) {
+    std::string error, frame_error, bias, frame_bias;
+    if (reference) {
+        error = std::to_string(pt::rmse(renderer.accumulated(), *reference));
+        frame_error = std::to_string(pt::rmse(renderer.last_frame(), *reference));
+        bias = std::to_string(pt::relative_mean_difference(renderer.accumulated(), *reference));
+        frame_bias =
+            std::to_string(pt::relative_mean_difference(renderer.last_frame(), *reference));
+    }
+    std::printf("frame %u: %.1f ms (primary %.1f, photons %.1f, tiles %.1f, candidates %.1f, "
+                "temporal %.1f, spatial %.1f, shading %.1f)%s%s\n",
+                frame, t.total, t.primary, t.photons, t.tiles, t.candidates, t.temporal, t.spatial,
+                t.shading, reference ? " rmse " : "", error.c_str());
+    std::fflush(stdout);
+    if (csv)
+        csv << frame << ',' << error << ',' << frame_error << ',' << t.total << ',' << elapsed
+            << ',' << t.primary << ',' << t.photons << ',' << t.candidates << ',' << t.temporal
+            << ',' << t.spatial << ',' << t.shading << ',' << t.tiles << ',' << bias << ','
+            << frame_bias << ',' << error_columns(renderer.accumulated(), reference) << '\n';
+}
+
+// --- The frames ------------------------------------------------------------------------------
+
+// Renders and reports every frame, with a progress bar on a terminal.
+void render_frames(pt::Renderer& renderer, const pt::RenderOptions& options,
+                   const std::optional<pt::Image>& reference, std::ofstream& csv) {
+    const bool interactive = isatty(fileno(stderr)) != 0;
+    double elapsed = 0.0;
+    for (std::uint32_t f = 0; f < options.frames; ++f) {
+        const pt::FrameTimings t = renderer.render_frame();
+        elapsed += t.total;
+        report_frame(f + 1, t, elapsed, renderer, reference, csv);
+        if (interactive)
+            progress(f + 1, options.frames, t.total);
+    }
+}
+
+// --- Image output ----------------------------------------------------------------------------
+
+bool is_black(const pt::Image& image) {
+    return std::none_of(image.pixels.begin(), image.pixels.end(),
+                        [](const glm::vec3& p) { return p.x > 0.0f || p.y > 0.0f || p.z > 0.0f; });
+}
+
+// The accumulated image in every --out file, a warning if it is black, and a summary.
+void write_outputs(const pt::Renderer& renderer, const pt::RenderOptions& options) {
+    const pt::Image& image = renderer.accumulated();
+    const float exposure = options.exposure ? *options.exposure : pt::auto_exposure(image);
+    for (const std::string& out : options.outs)
+        pt::write_image(out, image, exposure);
+    if (is_black(image))
+        std::cerr << "restir-render: warning: the image is black: does the camera see the "
+                     "lit scene (--look-from, --look-at)?\n";
+    std::printf("pixels with a surface: %zu of %zu\n", renderer.surface_pixel_count(),
+                image.pixels.size());
+    for (const std::string& out : options.outs)
+        std::printf("wrote %s (exposure %.2f)\n", out.c_str(), static_cast<double>(exposure));
+}
+
+// Loads the scene, checks everything that can be checked before the render, renders, measures
+// and writes the image.
+void run(pt::RenderOptions& options) {
+    pt::RenderSettings& settings = options.settings;
+    const pt::Scene scene = load_scene(options);
+    settings.camera = camera_of(scene, options);
+    for (const std::string& out : options.outs)
+        pt::check_output_format(out); // before the render, not after it
+    const std::optional<pt::Image> reference = read_reference(options);
+    std::ofstream csv = open_csv(options.csv);
+
+    pt::Renderer renderer(scene, settings);
+    std::printf("scene %s: %u triangles, %u emitters, %zu VPLs; %ux%u, %u frame(s)\n",
+                scene.name.c_str(), scene.triangle_count(), renderer.emitter_count(),
+                renderer.vpl_count(), settings.width, settings.height, options.frames);
+    if (settings.gi == pt::GlobalIllumination::vpl && settings.vpls > 0 &&
+        renderer.vpl_count() == 0)
+        std::cerr << "restir-render: warning: no photon left a VPL (no surface reflects "
+                     "light): the indirect light is black\n";
+    render_frames(renderer, options, reference, csv);
+    write_outputs(renderer, options);
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
     std::string help;
-    std::optional<pt::RenderOptions> parsed;
+    std::optional<pt::RenderOptions> options;
     try {
-        parsed = pt::parse_render_options(argc, argv, help);
+        options = pt::parse_render_options(argc, argv, help);
     } catch (const pt::UsageError& e) {
         fail(e.what());
     }
-    if (!parsed) {
+    if (!options) {
         std::cout << help;
         return 0;
     }
-    pt::RenderOptions& options = *parsed;
-    pt::RenderSettings& settings = options.settings;
-
     try {
-        pt::Scene scene;
-        if (options.scene == "cornell")
-            scene = pt::make_cornell_box();
-        else if (options.scene == "many-lights")
-            scene = pt::make_many_lights(options.lights, options.scene_seed);
-        else
-            scene = pt::load_obj(options.scene);
-
-        settings.camera = scene.camera
-                              ? *scene.camera
-                              : pt::frame_bounds(scene, static_cast<float>(settings.width) /
-                                                            static_cast<float>(settings.height));
-        if (!options.look_from.empty())
-            settings.camera.look_from = {options.look_from[0], options.look_from[1],
-                                         options.look_from[2]};
-        if (!options.look_at.empty())
-            settings.camera.look_at = {options.look_at[0], options.look_at[1], options.look_at[2]};
-        if (options.fov)
-            settings.camera.fov_degrees = *options.fov;
-        pt::check_camera(settings.camera);
-        for (const std::string& out : options.outs)
-            pt::check_output_format(out); // before the render, not after it
-
-        std::optional<pt::Image> reference;
-        if (!options.reference.empty()) {
-            // It must match the image: nothing larger is read.
-            reference = pt::read_image(options.reference,
-                                       {std::uint64_t{settings.width} * settings.height});
-            if (reference->width != settings.width || reference->height != settings.height)
-                fail("the reference " + options.reference + " is " +
-                     std::to_string(reference->width) + "x" + std::to_string(reference->height) +
-                     " but the image is " + std::to_string(settings.width) + "x" +
-                     std::to_string(settings.height));
-            if (const std::size_t bad = pt::non_finite_pixels(*reference); bad > 0)
-                fail("the reference " + options.reference + " has " + std::to_string(bad) +
-                     " pixel(s) that are not finite");
-        }
-        std::ofstream csv;
-        if (!options.csv.empty()) {
-            const std::filesystem::path parent = std::filesystem::path(options.csv).parent_path();
-            std::error_code error;
-            if (!parent.empty())
-                std::filesystem::create_directories(parent, error);
-            if (error)
-                fail("cannot create the directory " + parent.string() + " for " + options.csv +
-                     ": " + error.message());
-            csv.open(options.csv);
-            if (!csv)
-                fail("cannot write " + options.csv);
-            csv << "frame,rmse,frame_rmse,frame_ms,elapsed_ms,primary_ms,photons_ms,candidates_ms,"
-                   "temporal_ms,spatial_ms,shading_ms,tiles_ms,bias,frame_bias,"
-                << error_header() << '\n';
-        }
-
-        pt::Renderer renderer(scene, settings);
-        std::printf("scene %s: %u triangles, %u emitters, %zu VPLs; %ux%u, %u frame(s)\n",
-                    scene.name.c_str(), scene.triangle_count(), renderer.emitter_count(),
-                    renderer.vpl_count(), settings.width, settings.height, options.frames);
-        if (settings.gi == pt::GlobalIllumination::vpl && settings.vpls > 0 &&
-            renderer.vpl_count() == 0)
-            std::cerr << "restir-render: warning: no photon left a VPL (no surface reflects "
-                         "light): the indirect light is black\n";
-        const bool interactive = isatty(fileno(stderr)) != 0;
-        double elapsed = 0.0;
-        for (std::uint32_t f = 0; f < options.frames; ++f) {
-            const pt::FrameTimings t = renderer.render_frame();
-            elapsed += t.total;
-            std::string error, frame_error, bias, frame_bias;
-            if (reference) {
-                error = std::to_string(pt::rmse(renderer.accumulated(), *reference));
-                frame_error = std::to_string(pt::rmse(renderer.last_frame(), *reference));
-                bias = std::to_string(
-                    pt::relative_mean_difference(renderer.accumulated(), *reference));
-                frame_bias =
-                    std::to_string(pt::relative_mean_difference(renderer.last_frame(), *reference));
-            }
-            std::printf(
-                "frame %u: %.1f ms (primary %.1f, photons %.1f, tiles %.1f, candidates %.1f, "
-                "temporal %.1f, spatial %.1f, shading %.1f)%s%s\n",
-                f + 1, t.total, t.primary, t.photons, t.tiles, t.candidates, t.temporal, t.spatial,
-                t.shading, reference ? " rmse " : "", error.c_str());
-            std::fflush(stdout);
-            if (csv)
-                csv << f + 1 << ',' << error << ',' << frame_error << ',' << t.total << ','
-                    << elapsed << ',' << t.primary << ',' << t.photons << ',' << t.candidates << ','
-                    << t.temporal << ',' << t.spatial << ',' << t.shading << ',' << t.tiles << ','
-                    << bias << ',' << frame_bias << ','
-                    << error_columns(renderer.accumulated(), reference) << '\n';
-            if (interactive)
-                progress(f + 1, options.frames, t.total);
-        }
-
-        const pt::Image& image = renderer.accumulated();
-        const float exposure = options.exposure ? *options.exposure : pt::auto_exposure(image);
-        for (const std::string& out : options.outs)
-            pt::write_image(out, image, exposure);
-        bool black = true;
-        for (const glm::vec3& p : image.pixels)
-            if (p.x > 0.0f || p.y > 0.0f || p.z > 0.0f) {
-                black = false;
-                break;
-            }
-        if (black)
-            std::cerr << "restir-render: warning: the image is black: does the camera see the "
-                         "lit scene (--look-from, --look-at)?\n";
-        std::printf("pixels with a surface: %zu of %zu\n", renderer.surface_pixel_count(),
-                    image.pixels.size());
-        for (const std::string& out : options.outs)
-            std::printf("wrote %s (exposure %.2f)\n", out.c_str(), static_cast<double>(exposure));
-    } catch (const pt::SceneError& e) {
-        fail(e.what());
-    } catch (const pt::ImageError& e) {
-        fail(e.what());
+        run(*options);
     } catch (const std::exception& e) {
         fail(e.what());
     }
