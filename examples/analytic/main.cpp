@@ -92,112 +92,152 @@ Lights make_lights() {
     return set;
 }
 
-} // namespace scene
+// ---- The scene, its exact answer, and its renders through the frame recipe ----
 
-int main() {
-    using namespace scene;
-    const Lights lights = make_lights();
-    const Sphere sphere;
+// The patch's texel centres, row by row.
+std::vector<Texel> make_texels() {
     std::vector<Texel> texels(pixels);
     for (std::uint32_t i = 0; i < pixels; ++i)
         texels[i].position = {(float(i % size) + 0.5f) / size, (float(i / size) + 0.5f) / size,
                               0.0f};
+    return texels;
+}
 
-    // The exact answer: the sum over the lights each texel sees (the segment test restir uses).
-    const restir::LightVisibility<Lights, Sphere> visibility{&lights, &sphere, 1e-4f};
-    std::vector<double> exact(pixels, 0.0);
-    double truth = 0.0;
-    for (std::uint32_t i = 0; i < pixels; ++i) {
-        for (std::uint32_t id = 0; id < lights.light_count(); ++id)
-            if (visibility({id, {}}, texels[i]))
-                exact[i] += double(irradiance(lights, {id, {}}, texels[i]));
-        truth += exact[i] / pixels;
+// Everything a render reads: the lights, the sphere, the G-buffer, the lights' alias table.
+struct Patch {
+    Lights lights = make_lights();
+    Sphere sphere{};
+    std::vector<Texel> texels = make_texels();
+    restir::AliasTable table{light_powers(lights)};
+
+    static std::vector<float> light_powers(const Lights& lights) {
+        std::vector<float> powers;
+        for (const glm::vec4& l : lights.lights)
+            powers.push_back(l.w);
+        return powers;
     }
+    restir::LightVisibility<Lights, Sphere> visibility() const { return {&lights, &sphere, 1e-4f}; }
+};
 
-    std::vector<float> powers;
-    for (const glm::vec4& l : lights.lights)
-        powers.push_back(l.w);
-    const restir::AliasTable table(powers);
-    const restir::PowerLightSampler sampler{table.view()};
+// The exact irradiance of every texel: the sum over the lights it sees (the segment test
+// restir uses), and the image mean.
+struct Exact {
+    std::vector<double> pixels;
+    double mean = 0.0;
+};
+
+Exact exact_irradiance(const Patch& patch) {
+    const restir::LightVisibility<Lights, Sphere> visibility = patch.visibility();
+    Exact exact{std::vector<double>(pixels, 0.0)};
+    for (std::uint32_t i = 0; i < pixels; ++i) {
+        for (std::uint32_t id = 0; id < patch.lights.light_count(); ++id)
+            if (visibility({id, {}}, patch.texels[i]))
+                exact.pixels[i] += double(irradiance(patch.lights, {id, {}}, patch.texels[i]));
+        exact.mean += exact.pixels[i] / pixels;
+    }
+    return exact;
+}
+
+// One run of `frames` frames through the frame recipe (restir::run_di_frame): RIS alone, or
+// with temporal and spatial reuse. Returns the last frame's image.
+std::vector<double> render(const Patch& patch, std::uint64_t seed, std::uint32_t frames,
+                           bool reuse) {
+    const restir::PowerLightSampler sampler{patch.table.view()};
     const auto target_at = [&](const restir::LightSampleRef& s, const Texel& t) {
-        return irradiance(lights, s, t);
+        return irradiance(patch.lights, s, t);
     };
-    const restir::ReuseBridge bridge{target_at, visibility};
-    restir::DiFrameParams reuse_params = restir::default_di_frame_params();
-    reuse_params.spatial.radius = 4.0f;
+    const restir::ReuseBridge bridge{target_at, patch.visibility()};
     const auto same_pixel = [](restir::PixelCoord p) { return p; }; // a still camera
     const auto for_each_pixel = [](const auto& stage) { // a parallel loop in a real renderer
         for (std::uint32_t i = 0; i < pixels; ++i)
             stage(restir::PixelCoord{int(i % size), int(i / size)});
     };
-
-    // One run of `frames` frames; returns the last frame's image.
     using Reservoir = restir::Reservoir<restir::LightSampleRef>;
-    const auto run = [&](std::uint64_t seed, std::uint32_t frames, bool reuse) {
-        std::vector<Reservoir> history(pixels), out(pixels), scratch(pixels);
-        std::vector<double> image(pixels);
-        restir::DiFrame<restir::LightSampleRef, Texel, decltype(same_pixel)> frame{
-            .params = reuse_params,
-            .surfaces = {texels.data(), size, size},
-            .reproject = same_pixel};
-        frame.params.temporal_reuse = reuse;
-        frame.params.spatial_passes = reuse ? 1u : 0u;
-        for (std::uint32_t f = 0; f < frames; ++f) {
-            frame.frame_index = f;
-            if (f > 0) { // frame 0 (and a camera cut) has no history
-                std::swap(history, out);
-                frame.history = {history.data(), size, size};
-                frame.previous_surfaces = frame.surfaces; // a still scene
-            }
-            restir::run_di_frame(
-                frame, restir::ImageView<Reservoir>{out.data(), size, size},
-                restir::ImageView<Reservoir>{scratch.data(), size, size}, for_each_pixel,
-                [&](restir::PixelCoord, const Texel& texel, Random& rng) { // initial candidates
-                    return restir::resample_ris(
-                        rng, 8u,
-                        [&](Random& g) { return restir::draw_light_candidate(sampler, g); },
-                        target_at, texel);
-                },
-                bridge,
-                [&](restir::PixelCoord p, std::uint32_t stream) {
-                    return Random{seed * 0x100000001b3ull + (f * 7919u + stream) * pixels +
-                                  std::uint64_t(p.x + p.y * int(size))};
-                });
+    std::vector<Reservoir> history(pixels), out(pixels), scratch(pixels);
+    restir::DiFrame<restir::LightSampleRef, Texel, decltype(same_pixel)> frame{
+        .params = restir::default_di_frame_params(),
+        .surfaces = {patch.texels.data(), size, size},
+        .reproject = same_pixel};
+    frame.params.spatial.radius = 4.0f;
+    frame.params.temporal_reuse = reuse;
+    frame.params.spatial_passes = reuse ? 1u : 0u;
+    for (std::uint32_t f = 0; f < frames; ++f) {
+        frame.frame_index = f;
+        if (f > 0) { // frame 0 (and a camera cut) has no history
+            std::swap(history, out);
+            frame.history = {history.data(), size, size};
+            frame.previous_surfaces = frame.surfaces; // a still scene
         }
-        for (std::uint32_t i = 0; i < pixels; ++i) { // shading: W is 0 where occluded
-            const Reservoir& r = out[i];
-            image[i] = double(target_at(r.sample, texels[i]) * r.contribution_weight);
-        }
-        return image;
-    };
-
-    bool passed = true;
-    double pixel_rmse[2] = {0.0, 0.0};
-    for (const bool reuse : {false, true}) {
-        constexpr int runs = 400;
-        double sum = 0.0, sum_squares = 0.0;
-        for (int k = 0; k < runs; ++k) {
-            const std::vector<double> image = run(1000u + std::uint64_t(k), 4u, reuse);
-            double mean = 0.0;
-            for (std::uint32_t i = 0; i < pixels; ++i) {
-                mean += image[i] / pixels;
-                pixel_rmse[reuse] += (image[i] - exact[i]) * (image[i] - exact[i]);
-            }
-            sum += mean;
-            sum_squares += mean * mean;
-        }
-        pixel_rmse[reuse] = std::sqrt(pixel_rmse[reuse] / (runs * double(pixels))) / truth;
-        const double average = sum / runs;
-        const double error = std::sqrt((sum_squares / runs - average * average) / (runs - 1));
-        const bool agrees = std::abs(average - truth) < 4.0 * error;
-        passed = passed && agrees;
-        std::printf(
-            "%-22s image mean %.5f, exact %.5f, difference %+.5f (%.1f standard errors) %s\n",
-            reuse ? "RIS + temporal/spatial" : "RIS", average, truth, average - truth,
-            std::abs(average - truth) / error, agrees ? "ok" : "FAILED");
+        restir::run_di_frame(
+            frame, restir::ImageView<Reservoir>{out.data(), size, size},
+            restir::ImageView<Reservoir>{scratch.data(), size, size}, for_each_pixel,
+            [&](restir::PixelCoord, const Texel& texel, Random& rng) { // initial candidates
+                return restir::resample_ris(
+                    rng, 8u, [&](Random& g) { return restir::draw_light_candidate(sampler, g); },
+                    target_at, texel);
+            },
+            bridge,
+            [&](restir::PixelCoord p, std::uint32_t stream) {
+                return Random{seed * 0x100000001b3ull + (f * 7919u + stream) * pixels +
+                              std::uint64_t(p.x + p.y * int(size))};
+            });
     }
-    const bool better = pixel_rmse[1] < pixel_rmse[0];
-    std::printf("relative RMSE per pixel at frame 4: RIS %.3f, with reuse %.3f %s\n", pixel_rmse[0],
-                pixel_rmse[1], better ? "ok" : "FAILED");
-    return passed && better ? 0 : 1;
+    std::vector<double> image(pixels);
+    for (std::uint32_t i = 0; i < pixels; ++i) // shading: W is 0 where occluded
+        image[i] = double(target_at(out[i].sample, patch.texels[i]) * out[i].contribution_weight);
+    return image;
+}
+
+// One estimator over many independent runs of 4 frames: the average image mean and its
+// standard error, and the per-pixel RMSE relative to the exact mean.
+struct Measured {
+    double mean = 0.0;
+    double standard_error = 0.0;
+    double pixel_rmse = 0.0;
+};
+
+Measured measure(const Patch& patch, const Exact& exact, bool reuse) {
+    constexpr int runs = 400;
+    double sum = 0.0, sum_squares = 0.0, squared_error = 0.0;
+    for (int k = 0; k < runs; ++k) {
+        const std::vector<double> image = render(patch, 1000u + std::uint64_t(k), 4u, reuse);
+        double mean = 0.0;
+        for (std::uint32_t i = 0; i < pixels; ++i) {
+            mean += image[i] / pixels;
+            squared_error += (image[i] - exact.pixels[i]) * (image[i] - exact.pixels[i]);
+        }
+        sum += mean;
+        sum_squares += mean * mean;
+    }
+    Measured m;
+    m.mean = sum / runs;
+    m.standard_error = std::sqrt((sum_squares / runs - m.mean * m.mean) / (runs - 1));
+    m.pixel_rmse = std::sqrt(squared_error / (runs * double(pixels))) / exact.mean;
+    return m;
+}
+
+// Prints whether the estimator's image mean agrees with the exact one within 4 standard
+// errors, and returns it.
+bool agrees(const char* name, const Measured& m, double truth) {
+    const bool ok = std::abs(m.mean - truth) < 4.0 * m.standard_error;
+    std::printf("%-22s image mean %.5f, exact %.5f, difference %+.5f (%.1f standard errors) %s\n",
+                name, m.mean, truth, m.mean - truth, std::abs(m.mean - truth) / m.standard_error,
+                ok ? "ok" : "FAILED");
+    return ok;
+}
+
+} // namespace scene
+
+int main() {
+    using namespace scene;
+    const Patch patch;
+    const Exact exact = exact_irradiance(patch);
+    const Measured ris = measure(patch, exact, false);
+    const bool ris_agrees = agrees("RIS", ris, exact.mean);
+    const Measured reuse = measure(patch, exact, true);
+    const bool reuse_agrees = agrees("RIS + temporal/spatial", reuse, exact.mean);
+    const bool better = reuse.pixel_rmse < ris.pixel_rmse;
+    std::printf("relative RMSE per pixel at frame 4: RIS %.3f, with reuse %.3f %s\n",
+                ris.pixel_rmse, reuse.pixel_rmse, better ? "ok" : "FAILED");
+    return ris_agrees && reuse_agrees && better ? 0 : 1;
 }

@@ -99,14 +99,27 @@ PointLights make_lights() {
     return set;
 }
 
-} // namespace toy
+// ---- The three panels ----
 
-int main(int argc, char** argv) {
-    using namespace toy;
-    const std::filesystem::path output = argc > 1 ? argv[1] : "out/minimal.png";
-    const PointLights lights = make_lights();
+constexpr std::uint32_t kPixels = kSize * kSize;
+using Panel = std::vector<glm::vec3>;
+
+struct Panels {
+    Panel uniform = Panel(kPixels);
+    Panel ris = Panel(kPixels);
+    Panel reference = Panel(kPixels);
+};
+
+// The ground point that pixel `pixel` of a panel sees.
+GroundPoint ground_point(std::uint32_t pixel) {
+    const float x = (2.0f * float(pixel % kSize) + 1.0f) / kSize - 1.0f; // [-1, 1]
+    const float z = (2.0f * float(pixel / kSize) + 1.0f) / kSize - 1.0f;
+    return {{x, 0.0f, z}};
+}
+
+// Every pixel by the three estimators, each with its own counter-based RNG pass.
+Panels render(const PointLights& lights) {
     const TargetLuminance target{&lights};
-
     // Source distributions: uniform for the baseline, power (alias table) for RIS candidates.
     const restir::UniformLightSampler uniform{lights.light_count()};
     std::vector<float> powers;
@@ -115,17 +128,14 @@ int main(int argc, char** argv) {
     const restir::AliasTable table(powers);
     const restir::PowerLightSampler power{table.view()};
 
-    constexpr std::uint32_t kPixels = kSize * kSize;
-    std::vector<glm::vec3> uniform_image(kPixels), ris_image(kPixels), reference(kPixels);
+    Panels panels;
     for (std::uint32_t pixel = 0; pixel < kPixels; ++pixel) {
-        const float x = (2.0f * float(pixel % kSize) + 1.0f) / kSize - 1.0f; // [-1, 1]
-        const float z = (2.0f * float(pixel / kSize) + 1.0f) / kSize - 1.0f;
-        const GroundPoint surface{{x, 0.0f, z}};
+        const GroundPoint surface = ground_point(pixel);
 
-        // Uniform: one light, f / pmf. Each estimator gets its own counter-based RNG pass.
+        // Uniform: one light, f / pmf.
         restir::Pcg32 rng = restir::make_pixel_rng(pixel, /*frame=*/0u, /*pass=*/0u, kSeed);
         const restir::DiscreteSample pick = restir::sample_light(uniform, rng);
-        uniform_image[pixel] = shade(surface, lights.sample_point(pick.index, {})) / pick.pmf;
+        panels.uniform[pixel] = shade(surface, lights.sample_point(pick.index, {})) / pick.pmf;
 
         // RIS: candidates x_i from the power sampler with pdf p(x_i), kept in proportion to
         // p-hat(x_i) / p(x_i); W then makes f(y) * W an unbiased estimate of the full sum.
@@ -134,46 +144,70 @@ int main(int argc, char** argv) {
         const auto p_hat = [&](const restir::LightSampleRef& ref) { return target(ref, surface); };
         const auto reservoir = restir::resample_ris(rng, kCandidates, draw, p_hat);
         const restir::LightSampleRef& y = reservoir.sample;
-        ris_image[pixel] = shade(surface, lights.sample_point(y.light_id, y.uv)) *
-                           reservoir.contribution_weight; // W = 0 when nothing was kept.
+        panels.ris[pixel] = shade(surface, lights.sample_point(y.light_id, y.uv)) *
+                            reservoir.contribution_weight; // W = 0 when nothing was kept.
 
         for (std::uint32_t id = 0; id < lights.light_count(); ++id)
-            reference[pixel] += shade(surface, lights.sample_point(id, {}));
+            panels.reference[pixel] += shade(surface, lights.sample_point(id, {}));
     }
+    return panels;
+}
 
-    // Error against the reference, relative to its mean luminance.
+// ---- Error and output ----
+
+double mean_luminance(const Panel& panel) {
     double mean = 0.0;
-    for (const glm::vec3& c : reference)
+    for (const glm::vec3& c : panel)
         mean += double(luminance(c)) / kPixels;
-    const auto relative_rmse = [&](const std::vector<glm::vec3>& image) {
-        double sum = 0.0;
-        for (std::uint32_t i = 0; i < kPixels; ++i)
-            sum += double(glm::dot(image[i] - reference[i], image[i] - reference[i]));
-        return std::sqrt(sum / (3.0 * kPixels)) / mean;
-    };
-    std::printf("relative RMSE, 1 sample per pixel: uniform %.3f, RIS (%u candidates) %.3f\n",
-                relative_rmse(uniform_image), kCandidates, relative_rmse(ris_image));
+    return mean;
+}
 
-    // Tone map (exposure from the reference's mean, clamp, sRGB curve); panels side by side.
-    constexpr std::uint32_t kGap = 4, kWidth = 3 * kSize + 2 * kGap;
-    const float exposure = 0.3f / float(mean);
+// RMSE against the reference, relative to its mean luminance.
+double relative_rmse(const Panel& image, const Panel& reference, double mean) {
+    double sum = 0.0;
+    for (std::uint32_t i = 0; i < kPixels; ++i)
+        sum += double(glm::dot(image[i] - reference[i], image[i] - reference[i]));
+    return std::sqrt(sum / (3.0 * kPixels)) / mean;
+}
+
+constexpr std::uint32_t kGap = 4, kWidth = 3 * kSize + 2 * kGap;
+
+// The panels side by side, tone mapped: times `exposure`, clamped, sRGB curve.
+std::vector<std::uint8_t> tone_map(const Panels& panels, float exposure) {
     std::vector<std::uint8_t> rgb(kWidth * kSize * 3, 24);
-    const std::vector<glm::vec3>* panels[] = {&uniform_image, &ris_image, &reference};
+    const Panel* order[] = {&panels.uniform, &panels.ris, &panels.reference};
     for (std::uint32_t p = 0; p < 3; ++p)
         for (std::uint32_t i = 0; i < kPixels; ++i)
             for (int c = 0; c < 3; ++c) {
-                const float v = std::clamp((*panels[p])[i][c] * exposure, 0.0f, 1.0f);
+                const float v = std::clamp((*order[p])[i][c] * exposure, 0.0f, 1.0f);
                 const float srgb =
                     v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
                 const std::uint32_t x = p * (kSize + kGap) + i % kSize, row = i / kSize;
                 rgb[(row * kWidth + x) * 3 + std::uint32_t(c)] = std::uint8_t(srgb * 255 + 0.5f);
             }
+    return rgb;
+}
 
+bool write_png(const std::filesystem::path& output, const std::vector<std::uint8_t>& rgb) {
     std::error_code ignored; // A failure to create the directory shows up when writing.
     if (output.has_parent_path())
         std::filesystem::create_directories(output.parent_path(), ignored);
-    if (!stbi_write_png(output.string().c_str(), int(kWidth), int(kSize), 3, rgb.data(),
-                        int(kWidth * 3))) {
+    return stbi_write_png(output.string().c_str(), int(kWidth), int(kSize), 3, rgb.data(),
+                          int(kWidth * 3)) != 0;
+}
+
+} // namespace toy
+
+int main(int argc, char** argv) {
+    using namespace toy;
+    const std::filesystem::path output = argc > 1 ? argv[1] : "out/minimal.png";
+    const Panels panels = render(make_lights());
+    const double mean = mean_luminance(panels.reference);
+    std::printf("relative RMSE, 1 sample per pixel: uniform %.3f, RIS (%u candidates) %.3f\n",
+                relative_rmse(panels.uniform, panels.reference, mean), kCandidates,
+                relative_rmse(panels.ris, panels.reference, mean));
+    // Exposure from the reference's mean.
+    if (!write_png(output, tone_map(panels, 0.3f / float(mean)))) {
         std::fprintf(stderr, "restir-minimal: cannot write %s\n", output.string().c_str());
         return 1;
     }
