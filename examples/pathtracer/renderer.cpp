@@ -79,6 +79,8 @@ struct CacheLineAllocator {
 };
 using ReservoirBuffer = std::vector<Reservoir, CacheLineAllocator<Reservoir>>;
 
+// The renderer's state (the scene's BVH and emitters, the light set, the G-buffers and
+// reservoirs of this frame and the last, the images) and its stages.
 struct Renderer::Impl {
     const Scene& scene;
     const RenderSettings settings;
@@ -161,6 +163,7 @@ struct Renderer::Impl {
         build_light_set(generation);
     }
 
+    // A photon pass (restir::shoot_photons) on the renderer's threads.
     std::vector<restir::Vpl> shoot_photons(const restir::PhotonParams& params) {
         const LambertianScatter scatter{&scene};
         const auto parallel_for = [this](std::uint32_t count, auto&& body) {
@@ -204,7 +207,7 @@ struct Renderer::Impl {
                 std::span<const float>(powers.data() + emitters.light_count(), vpls.size()));
     }
 
-    // --- Lights --------------------------------------------------------------------------
+    // --- Light at a surface: contribution, p-hat and visibility ---------------------------
     glm::vec3 reflected(const GSurface& s, const restir::LightSample& light) const {
         return s.albedo * inv_pi *
                restir::unshadowed_irradiance(light, s.position, s.normal, falloff);
@@ -239,16 +242,20 @@ struct Renderer::Impl {
     struct PixelBlock {
         std::uint32_t x0, y0, x1, y1; // [x0, x1) x [y0, y1)
     };
+    std::uint32_t block_columns() const {
+        return (settings.width + pixel_block - 1u) / pixel_block;
+    }
+    std::uint32_t block_rows() const { return (settings.height + pixel_block - 1u) / pixel_block; }
+    std::uint32_t block_count() const { return block_columns() * block_rows(); }
+    // The index of the block that holds pixel (x, y), and block `b`.
+    std::uint32_t block_of(std::uint32_t x, std::uint32_t y) const {
+        return x / pixel_block + (y / pixel_block) * block_columns();
+    }
     PixelBlock block_at(std::uint32_t b) const {
-        const std::uint32_t columns = (settings.width + pixel_block - 1u) / pixel_block;
-        const std::uint32_t x0 = b % columns * pixel_block;
-        const std::uint32_t y0 = b / columns * pixel_block;
+        const std::uint32_t x0 = b % block_columns() * pixel_block;
+        const std::uint32_t y0 = b / block_columns() * pixel_block;
         return {x0, y0, std::min(settings.width, x0 + pixel_block),
                 std::min(settings.height, y0 + pixel_block)};
-    }
-    std::uint32_t block_count() const {
-        return ((settings.width + pixel_block - 1u) / pixel_block) *
-               ((settings.height + pixel_block - 1u) / pixel_block);
     }
     template <class Body>
     void for_each_pixel_of(const PixelBlock& block, Body&& body) const {
@@ -261,8 +268,8 @@ struct Renderer::Impl {
     // where rows of blocks would stream many megabytes of reservoirs per row.
     template <class BlockBody>
     void for_each_block(BlockBody&& body) {
-        const std::uint32_t columns = (settings.width + pixel_block - 1u) / pixel_block;
-        const std::uint32_t rows = (settings.height + pixel_block - 1u) / pixel_block;
+        const std::uint32_t columns = block_columns();
+        const std::uint32_t rows = block_rows();
         arena.execute([&] {
             tbb::parallel_for(
                 tbb::blocked_range2d<std::uint32_t>(0u, rows, 8u, 0u, columns, 8u),
@@ -495,9 +502,7 @@ struct Renderer::Impl {
     // blocks of 8 consecutive entries: sampling/ris_batch.hpp).
     Reservoir initial_reservoir(std::uint32_t x, std::uint32_t y, std::uint32_t frame_index,
                                 const GSurface& s, restir::Pcg32& rng) const {
-        const std::uint32_t blocks_per_row = (settings.width + pixel_block - 1u) / pixel_block;
-        const std::uint32_t tile =
-            tiles.tile_for(x / pixel_block + (y / pixel_block) * blocks_per_row, frame_index);
+        const std::uint32_t tile = tiles.tile_for(block_of(x, y), frame_index);
         // Candidate blocks walk the tile's blocks from a random start with a random odd stride:
         // every candidate is a uniformly random entry (so its density is the entry's pdf), and
         // no block repeats within a pixel while there are enough of them.
