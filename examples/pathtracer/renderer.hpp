@@ -24,9 +24,13 @@ enum class GlobalIllumination {
     vpl,  ///< Direct light + VPLs (photons shot once), through one unified light set.
     path  ///< Direct light + path-traced indirect light.
 };
+/// Where RIS candidates come from: lights in proportion to their power, or uniformly.
 enum class CandidateSource { power, uniform };
+/// A still camera, or one that turns about its look-at point a little every frame.
 enum class CameraMotion { none, orbit };
 
+/// Everything one render uses: the image, the method, and the library's parameters as the
+/// library's own structs.
 struct RenderSettings {
     std::uint32_t width = 640;
     std::uint32_t height = 480;
@@ -42,7 +46,8 @@ struct RenderSettings {
                                ///< that error measurements see lighting noise only).
     /// RIS candidates per pixel (ris, restir).
     std::uint32_t candidates = 32;
-    /// The ReSTIR frame (restir::DiFrame), as restir-render's defaults have it.
+    /// The ReSTIR frame (restir::DiFrame), as restir-render's defaults have it; the boiling
+    /// filter runs when `di_frame.boiling_filter` is set (restir-render: --boiling-filter > 0).
     restir::DiFrameParams di_frame = default_di_frame_settings();
     std::uint32_t vpls = 100'000; ///< About this many VPLs (gi vpl).
     /// The photons of a VPL set: `max_bounces` and `seed` (the first set's; later sets follow
@@ -109,7 +114,9 @@ public:
     const Image& accumulated() const;
     /// The last frame alone.
     const Image& last_frame() const;
+    /// Frames rendered so far.
     std::uint32_t frames_rendered() const;
+    /// VPLs of the last frame's set.
     std::size_t vpl_count() const { return vpls().size(); }
     /// Photons shot per VPL set (0 when the pilot pass left no VPL, or without VPLs).
     std::uint32_t photons_per_set() const;
@@ -118,6 +125,7 @@ public:
     /// Pixels whose primary ray found a surface in the last frame (the pixels that sample
     /// lights; per-pixel costs in docs/performance.md are per such pixel).
     std::size_t surface_pixel_count() const;
+    /// Emissive triangles of the scene (degenerate ones emit nothing and are left out).
     std::uint32_t emitter_count() const;
 
 private:

@@ -54,7 +54,9 @@ struct Scene {
 
 /// Triangle `t` of a scene as its first corner and the edges from there, in winding order.
 struct Triangle {
-    glm::vec3 a, ab, ac;
+    glm::vec3 a;  ///< The first corner.
+    glm::vec3 ab; ///< The second corner minus the first.
+    glm::vec3 ac; ///< The third corner minus the first.
 
     Triangle(const Scene& scene, std::uint32_t t)
         : a(scene.positions[scene.indices[3 * t + 0]]),
@@ -65,7 +67,8 @@ struct Triangle {
     glm::vec3 normal_times_twice_area() const { return glm::cross(ab, ac); }
     /// Twice the area (0 for a degenerate triangle).
     float twice_area() const { return glm::length(normal_times_twice_area()); }
-    /// The unit geometric normal, or `degenerate` when the triangle has no area.
+    /// The unit geometric normal, or `degenerate` when the triangle has no area. Out of line,
+    /// so that the BVH and the emitters agree on it to the bit.
     glm::vec3 normal(glm::vec3 degenerate = {0.0f, 1.0f, 0.0f}) const;
 };
 
