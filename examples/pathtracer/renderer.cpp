@@ -947,11 +947,13 @@ struct Renderer::Impl {
                 t.tiles += milliseconds_since(start);
             }
             start = Clock::now();
-            const auto shade = [&](const PixelBlock& block) { shade_independent(block, index); };
+            const auto shade_block = [&](const PixelBlock& block) {
+                shade_independent(block, index);
+            };
             if (settings.method == Method::ris)
-                for_each_block_by_tile(index, shade);
+                for_each_block_by_tile(index, shade_block);
             else
-                for_each_block(shade);
+                for_each_block(shade_block);
             t.shading += milliseconds_since(start);
         }
     }
