@@ -150,7 +150,7 @@ TEST(Conformance, ReusePassesInstantiateWithStubTypes) {
     }
     const restir::ImageView<const restir::Reservoir<stub::Sample>> view{reservoirs.data(), 2u, 2u};
     const restir::ImageView<const stub::Surface> surface_view{surfaces.data(), 2u, 2u};
-    const restir::NeighborOffsets offsets = restir::make_neighbor_offsets();
+    const restir::NeighbourOffsets offsets = restir::make_neighbour_offsets();
     restir::SpatialParams spatial = restir::default_spatial_params();
     spatial.radius = 1.0f;
     const restir::TemporalParams temporal = restir::default_temporal_params();

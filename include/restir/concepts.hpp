@@ -5,9 +5,8 @@
 /// free functions or members. docs/bridge.md states each contract in full.
 #pragma once
 
+#include "restir/core/discrete_sample.hpp"
 #include "restir/core/rng.hpp"
-#include "restir/light/light_sample.hpp"
-#include "restir/light/light_sampler.hpp"
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
@@ -18,8 +17,20 @@
 namespace restir {
 
 // UniformRng<Rng> (core/rng.hpp): `next_float(rng)` -> float in [0, 1).
-// LightSampler<S> (light/light_sampler.hpp): `s.sample(u0, u1)` -> DiscreteSample,
-//   `s.pmf(id)` -> float, `s.light_count()` -> std::uint32_t.
+
+/// Chooses a light id. Required expressions, for `const S s`, floats `u0, u1` in [0, 1) and
+/// `std::uint32_t id`:
+///   `s.sample(u0, u1)`  -> DiscreteSample {light id, pmf}; pmf 0 means "no light".
+///   `s.pmf(id)`         -> float, the probability that `sample` returns `id`.
+///   `s.light_count()`   -> std::uint32_t.
+/// Sampling must cost O(1) per call so that candidate generation does not grow with the
+/// number of lights.
+template <class S>
+concept LightSampler = requires(const S& s, float u, std::uint32_t id) {
+    { s.sample(u, u) } -> std::same_as<DiscreteSample>;
+    { s.pmf(id) } -> std::convertible_to<float>;
+    { s.light_count() } -> std::convertible_to<std::uint32_t>;
+};
 
 /// The target function p-hat of resampling at a receiving surface. Required expression:
 ///   `f(sample, surface)` -> float, finite and >= 0; typically the luminance of

@@ -69,7 +69,7 @@ TEST(HostileFloats, ReservoirsNeverHoldNegativeOrNanWeights) {
 }
 
 TEST(HostileFloats, NeighboursAndDirectionsAreDefined) {
-    const restir::NeighborOffsets offsets = restir::make_neighbor_offsets();
+    const restir::NeighbourOffsets offsets = restir::make_neighbour_offsets();
     for (float u : hostile) {
         const restir::PixelCoord n =
             restir::spatial_neighbour({5, 5}, 3u, 1u, u, offsets, restir::neighbour_rotation(u));
@@ -86,12 +86,12 @@ TEST(HostileFloats, NeighboursAndDirectionsAreDefined) {
 TEST(HostileFloats, FalloffsAreNeverNegative) {
     for (float d : hostile)
         for (float p : hostile)
-            for (restir::Attenuation kind :
-                 {restir::Attenuation::yuksel, restir::Attenuation::clamped_inverse_square,
-                  restir::Attenuation::inverse_square}) {
-                if (!(d >= 0.0f) || (kind != restir::Attenuation::inverse_square && !(p > 0.0f)))
+            for (restir::FalloffKind kind :
+                 {restir::FalloffKind::yuksel, restir::FalloffKind::clamped_inverse_square,
+                  restir::FalloffKind::inverse_square}) {
+                if (!(d >= 0.0f) || (kind != restir::FalloffKind::inverse_square && !(p > 0.0f)))
                     continue; // outside the preconditions (asserted in debug builds)
-                EXPECT_FALSE(restir::attenuate(kind, d, p) < 0.0f) << d << " " << p;
+                EXPECT_FALSE(restir::evaluate_falloff(kind, d, p) < 0.0f) << d << " " << p;
             }
 }
 

@@ -27,7 +27,7 @@ struct FalloffTarget {
     float receiver_x;
     RESTIR_HOST_DEVICE float operator()(const Candidate& c) const {
         const float offset = light_x[c.light] - receiver_x;
-        return restir::yuksel_attenuation(offset < 0.0f ? -offset : offset, 0.05f);
+        return restir::yuksel_falloff(offset < 0.0f ? -offset : offset, 0.05f);
     }
 };
 
@@ -86,7 +86,7 @@ RESTIR_HOST_DEVICE PixelResult reuse_pixel(std::uint32_t pixel, const float* lig
     params.neighbour_count = 4u;
     params.reuse.bias_correction =
         pairwise ? restir::BiasCorrection::pairwise : restir::BiasCorrection::balance_heuristic;
-    constexpr restir::NeighborOffsets offsets = restir::make_neighbor_offsets();
+    constexpr restir::NeighbourOffsets offsets = restir::make_neighbour_offsets();
     const restir::ReuseBridge bridge{LineTarget{light_x}, HalfBlocked{}};
     restir::Pcg32 rng = restir::make_pixel_rng(pixel, 4u, 2u, 2024u);
     const restir::PixelCoord p{static_cast<std::int32_t>(pixel % image_side),

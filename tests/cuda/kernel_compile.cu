@@ -25,7 +25,7 @@ struct DistanceTarget {
     glm::vec3 receiver;
     RESTIR_HOST_DEVICE float operator()(const restir::LightSampleRef& ref) const {
         const glm::vec3 d = light_positions[ref.light_id] - receiver;
-        return restir::yuksel_attenuation(glm::length(d), 0.1f);
+        return restir::yuksel_falloff(glm::length(d), 0.1f);
     }
 };
 
@@ -45,7 +45,7 @@ struct SurfaceTarget {
     RESTIR_HOST_DEVICE float operator()(const restir::LightSampleRef& ref,
                                         const GBufferTexel& texel) const {
         const glm::vec3 d = light_positions[ref.light_id] - texel.position;
-        return restir::yuksel_attenuation(glm::length(d), 0.1f);
+        return restir::yuksel_falloff(glm::length(d), 0.1f);
     }
 };
 
@@ -153,7 +153,7 @@ __global__ void batch_ris_kernel(float* planes, restir::LightSampleRef* referenc
     restir::Pcg32 rng = restir::make_pixel_rng(i, 0u, 50u);
     const PointEmitters lights{emitters, emitter_count};
     const restir::PowerLightSampler sampler{restir::AliasTableView{alias_entries, emitter_count}};
-    const restir::Falloff falloff{restir::Attenuation::yuksel, 0.05f};
+    const restir::Falloff falloff{restir::FalloffKind::yuksel, 0.05f};
     tiles.store(i / 64u % 4u, i % 64u, restir::presample_light(sampler, lights, rng), falloff);
     const glm::vec3 receiver(static_cast<float>(i), 0.0f, 0.0f);
     const glm::vec3 normal(0.0f, 1.0f, 0.0f);
@@ -176,7 +176,7 @@ __global__ void reuse_kernel(const glm::vec3* light_positions, const GBufferTexe
                              restir::Reservoir<restir::LightSampleRef>* temporal_out,
                              restir::Reservoir<restir::LightSampleRef>* spatial_out,
                              std::uint32_t width, std::uint32_t height,
-                             restir::NeighborOffsets offsets) {
+                             restir::NeighbourOffsets offsets) {
     const auto x = static_cast<std::int32_t>(blockIdx.x * blockDim.x + threadIdx.x);
     const auto y = static_cast<std::int32_t>(blockIdx.y * blockDim.y + threadIdx.y);
     const restir::ImageView<const GBufferTexel> surfaces{texels, width, height};
@@ -269,5 +269,5 @@ __global__ void ris_kernel(const glm::vec3* light_positions, std::uint32_t light
     const restir::PowerLightSampler power{restir::AliasTableView{alias_entries, light_count}};
     const restir::DiscreteSample choice = restir::sample_light(power, rng);
     out[pixel] = reservoir.contribution_weight * target(reservoir.sample) + choice.pmf +
-                 restir::attenuate(restir::Attenuation::clamped_inverse_square, 1.0f, 0.5f);
+                 restir::evaluate_falloff(restir::FalloffKind::clamped_inverse_square, 1.0f, 0.5f);
 }

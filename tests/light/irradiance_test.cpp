@@ -23,8 +23,8 @@ float irradiance_above(const restir::Vpl& vpl, float height, restir::Falloff fal
 TEST(VplIrradiance, YukselIsFiniteAtTheVplAndExactFarAway) {
     const restir::Vpl vpl = vpl_at_origin(2.0f);
     const float radius = 0.1f;
-    const restir::Falloff yuksel{restir::Attenuation::yuksel, radius};
-    const restir::Falloff exact{restir::Attenuation::inverse_square, 0.0f};
+    const restir::Falloff yuksel{restir::FalloffKind::yuksel, radius};
+    const restir::Falloff exact{restir::FalloffKind::inverse_square, 0.0f};
     // At distance -> 0: Phi / pi * 2 / r^2, finite; the exact 1/d^2 grows without bound.
     const float near_value = irradiance_above(vpl, 1e-6f, yuksel);
     EXPECT_TRUE(std::isfinite(near_value));
@@ -39,14 +39,14 @@ TEST(VplIrradiance, YukselIsFiniteAtTheVplAndExactFarAway) {
 
 TEST(VplIrradiance, ClampedGeometryTermIsBounded) {
     const restir::Vpl vpl = vpl_at_origin(1.0f);
-    const restir::Falloff clamped{restir::Attenuation::clamped_inverse_square, 0.2f};
+    const restir::Falloff clamped{restir::FalloffKind::clamped_inverse_square, 0.2f};
     EXPECT_FLOAT_EQ(irradiance_above(vpl, 0.0001f, clamped), 1.0f / pi / 0.04f);
     EXPECT_FLOAT_EQ(irradiance_above(vpl, 0.5f, clamped), 1.0f / pi / 0.25f);
 }
 
 TEST(VplIrradiance, CosineLobesOnBothSides) {
     const restir::Vpl vpl = vpl_at_origin(1.0f);
-    const restir::Falloff exact{restir::Attenuation::inverse_square, 0.0f};
+    const restir::Falloff exact{restir::FalloffKind::inverse_square, 0.0f};
     const restir::LightSample light = restir::vpl_light_sample(vpl);
     // Receiver at 60 degrees from the VPL normal, facing the VPL: one cosine of 1/2.
     const glm::vec3 receiver(std::sqrt(3.0f), 1.0f, 0.0f); // distance 2
@@ -70,7 +70,7 @@ TEST(LightIrradiance, AreaSamplesDivideByTheirDensityAndPointLightsAreIsotropic)
     area.normal = {0.0f, -1.0f, 0.0f};
     area.radiance = glm::vec3(3.0f);
     area.area_pdf = 4.0f; // a quarter of a unit square
-    const restir::Falloff ignored{restir::Attenuation::yuksel, 10.0f};
+    const restir::Falloff ignored{restir::FalloffKind::yuksel, 10.0f};
     EXPECT_FLOAT_EQ(
         restir::unshadowed_irradiance(area, glm::vec3(0.0f), {0.0f, 1.0f, 0.0f}, ignored).x,
         3.0f / (4.0f * 4.0f));
@@ -81,7 +81,7 @@ TEST(LightIrradiance, AreaSamplesDivideByTheirDensityAndPointLightsAreIsotropic)
     point.radiance = glm::vec3(5.0f);
     point.area_pdf = 1.0f;
     point.is_delta = true;
-    const restir::Falloff exact{restir::Attenuation::inverse_square, 0.0f};
+    const restir::Falloff exact{restir::FalloffKind::inverse_square, 0.0f};
     EXPECT_FLOAT_EQ(
         restir::unshadowed_irradiance(point, glm::vec3(0.0f), {0.0f, 0.0f, 1.0f}, exact).x,
         5.0f / 4.0f);
@@ -91,11 +91,11 @@ TEST(LightIrradiance, AreaSamplesDivideByTheirDensityAndPointLightsAreIsotropic)
 
 // The default falloff is the exact one; the bounded ones are asked for by name.
 TEST(Falloff, DefaultIsExactAndTheBoundedOnesAreNamed) {
-    EXPECT_EQ(restir::Falloff{}.kind, restir::Attenuation::inverse_square);
-    EXPECT_EQ(restir::Falloff::exact().kind, restir::Attenuation::inverse_square);
-    EXPECT_EQ(restir::Falloff::yuksel(0.2f).kind, restir::Attenuation::yuksel);
+    EXPECT_EQ(restir::Falloff{}.kind, restir::FalloffKind::inverse_square);
+    EXPECT_EQ(restir::Falloff::exact().kind, restir::FalloffKind::inverse_square);
+    EXPECT_EQ(restir::Falloff::yuksel(0.2f).kind, restir::FalloffKind::yuksel);
     EXPECT_EQ(restir::Falloff::yuksel(0.2f).parameter, 0.2f);
-    EXPECT_EQ(restir::Falloff::clamped(0.3f).kind, restir::Attenuation::clamped_inverse_square);
+    EXPECT_EQ(restir::Falloff::clamped(0.3f).kind, restir::FalloffKind::clamped_inverse_square);
     EXPECT_EQ(restir::Falloff::clamped(0.3f).parameter, 0.3f);
 }
 

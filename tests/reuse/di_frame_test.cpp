@@ -169,7 +169,7 @@ public:
 
 private:
     restir::DiFrameParams p_;
-    restir::NeighborOffsets offsets_ = restir::make_neighbor_offsets();
+    restir::NeighbourOffsets offsets_ = restir::make_neighbour_offsets();
     Image history_ = Image(pixel_count);
     std::vector<Patch> previous_surfaces_ = std::vector<Patch>(pixel_count);
 };

@@ -66,23 +66,23 @@ glm::vec3 tilted_normal(float degrees) {
     return {std::sin(radians), 0.0f, std::cos(radians)};
 }
 
-TEST(NeighborOffsets, LieInTheUnitDiskAndAreDistinctAndSpread) {
-    constexpr restir::NeighborOffsets table = restir::make_neighbor_offsets();
+TEST(NeighbourOffsets, LieInTheUnitDiskAndAreDistinctAndSpread) {
+    constexpr restir::NeighbourOffsets table = restir::make_neighbour_offsets();
     std::set<std::pair<float, float>> distinct;
     int quadrant[4] = {0, 0, 0, 0};
-    for (std::uint32_t i = 0; i < restir::neighbor_offset_count; ++i) {
+    for (std::uint32_t i = 0; i < restir::neighbour_offset_count; ++i) {
         const restir::DiskOffset o = table[i];
         EXPECT_LE(o.x * o.x + o.y * o.y, 1.0f);
         distinct.insert({o.x, o.y});
         ++quadrant[(o.x < 0.0f ? 0 : 1) + (o.y < 0.0f ? 0 : 2)];
     }
-    EXPECT_EQ(distinct.size(), restir::neighbor_offset_count);
+    EXPECT_EQ(distinct.size(), restir::neighbour_offset_count);
     // A low-discrepancy set puts close to a quarter of the points in each quadrant.
     for (int q : quadrant) {
         EXPECT_GE(q, 12);
         EXPECT_LE(q, 20);
     }
-    EXPECT_EQ(table[restir::neighbor_offset_count + 5u].x, table[5u].x);
+    EXPECT_EQ(table[restir::neighbour_offset_count + 5u].x, table[5u].x);
 }
 
 TEST(Similarity, NormalDepthValidityAndMaterialHook) {
@@ -247,7 +247,7 @@ TEST(SpatialReuse, NeighbourRotationIsCosineAndSineOfTwoPiU) {
 // A radius that no int offset can hold (or NaN) is clamped, not converted with undefined
 // behaviour (caught by the sanitised build); the history cap saturates instead of wrapping.
 TEST(SpatialReuse, HugeOrNanRadiusIsClamped) {
-    const restir::NeighborOffsets offsets = restir::make_neighbor_offsets();
+    const restir::NeighbourOffsets offsets = restir::make_neighbour_offsets();
     for (float radius : {1e10f, std::numeric_limits<float>::infinity(),
                          std::numeric_limits<float>::quiet_NaN(), -5.0f})
         for (std::uint32_t i = 0; i < 8u; ++i) {
@@ -290,14 +290,14 @@ TEST(SpatialReuse, HugeOrNanRadiusIsClamped) {
 // The offset table is rotated by a random angle per pixel: over many pixels the neighbours
 // spread alike along x and y, stay inside the radius (plus rounding), and their mean is 0.
 TEST(SpatialReuse, RotatedNeighboursAreIsotropic) {
-    const restir::NeighborOffsets offsets = restir::make_neighbor_offsets();
+    const restir::NeighbourOffsets offsets = restir::make_neighbour_offsets();
     restir::Pcg32 rng = restir::make_pixel_rng(0u, 0u, 0u, 42u);
     constexpr int trials = 20000;
     constexpr float radius = 10.0f;
     double sum_x = 0, sum_y = 0, sum_xx = 0, sum_yy = 0, sum_d = 0, sum_dd = 0;
     for (int t = 0; t < trials; ++t) {
         const std::uint32_t start =
-            restir::uniform_index(restir::next_float(rng), restir::neighbor_offset_count);
+            restir::uniform_index(restir::next_float(rng), restir::neighbour_offset_count);
         const restir::DiskOffset rotation = restir::neighbour_rotation(restir::next_float(rng));
         EXPECT_NEAR(rotation.x * rotation.x + rotation.y * rotation.y, 1.0f, 1e-5f);
         const PixelCoord n =
@@ -321,23 +321,23 @@ TEST(SpatialReuse, RotatedNeighboursAreIsotropic) {
     EXPECT_LT(std::abs(mean_d), 4.0 * se_d) << "E[x^2] " << sum_xx / n << ", E[y^2] " << sum_yy / n;
     // Without rotation a pixel sees only the table's 64 offsets.
     std::set<std::pair<int, int>> fixed, rotated;
-    for (std::uint32_t start = 0; start < restir::neighbor_offset_count; ++start) {
+    for (std::uint32_t start = 0; start < restir::neighbour_offset_count; ++start) {
         const PixelCoord f = restir::spatial_neighbour({0, 0}, start, 0u, radius, offsets);
         fixed.insert({f.x, f.y});
     }
     for (int t = 0; t < 2000; ++t) {
         const PixelCoord r = restir::spatial_neighbour(
-            {0, 0}, static_cast<std::uint32_t>(t) % restir::neighbor_offset_count, 0u, radius,
+            {0, 0}, static_cast<std::uint32_t>(t) % restir::neighbour_offset_count, 0u, radius,
             offsets, restir::neighbour_rotation(restir::next_float(rng)));
         rotated.insert({r.x, r.y});
     }
-    EXPECT_LE(fixed.size(), restir::neighbor_offset_count);
+    EXPECT_LE(fixed.size(), restir::neighbour_offset_count);
     EXPECT_GT(rotated.size(), 3u * fixed.size()); // a disk of radius 10 holds ~300 pixels
 }
 
 TEST(SpatialReuse, IgnoresNonFiniteNeighboursAndInvalidReceivers) {
     const restir::ReuseBridge bridge{Target{}, AlwaysVisible{}};
-    const restir::NeighborOffsets offsets = restir::make_neighbor_offsets();
+    const restir::NeighbourOffsets offsets = restir::make_neighbour_offsets();
     // A 3 x 3 image: the centre is sound, every neighbour is poisoned.
     std::vector<Reservoir<LightId>> reservoirs(9, poisoned());
     reservoirs[4] = finalised(2u, 4u, 1.5f);
@@ -368,7 +368,7 @@ TEST(SpatialReuse, IgnoresNonFiniteNeighboursAndInvalidReceivers) {
 
 TEST(SpatialReuse, AddsTheCandidateCountsOfSimilarNeighbours) {
     const restir::ReuseBridge bridge{Target{}, AlwaysVisible{}};
-    const restir::NeighborOffsets offsets = restir::make_neighbor_offsets();
+    const restir::NeighbourOffsets offsets = restir::make_neighbour_offsets();
     std::vector<Reservoir<LightId>> reservoirs(9, finalised(1u, 4u, 1.0f));
     std::vector<Point> surfaces(9);
     for (std::uint32_t i : {0u, 2u, 6u, 8u}) // corners face away: never similar
@@ -467,7 +467,7 @@ TEST(Visibility, VplEndsLeaveTheirSurfaceAndIsotropicPointsStay) {
     EXPECT_FLOAT_EQ(query.to.z, 2.0f);
     // The same segments for samples that carry their point.
     const restir::LightPointVisibility<RecordingQuery> point_visible{&query, 0.01f};
-    const restir::Falloff falloff{restir::Attenuation::yuksel, 0.1f};
+    const restir::Falloff falloff{restir::FalloffKind::yuksel, 0.1f};
     for (std::uint32_t id : {0u, 1u}) {
         const restir::LightPointSample sample =
             restir::make_light_point_sample(id, lights.sample_point(id, {}), falloff);
@@ -500,7 +500,7 @@ TEST(BoilingFilter, EmptiesOnlyOutliersAboveTheLocalAverage) {
 // boiling-filter window larger than any image.
 TEST(ReusePreconditions, OutOfRangeCallsAreCheckedInDebugAndDefinedInRelease) {
     const restir::ReuseBridge bridge{Target{}, AlwaysVisible{}};
-    const restir::NeighborOffsets offsets = restir::make_neighbor_offsets();
+    const restir::NeighbourOffsets offsets = restir::make_neighbour_offsets();
     std::vector<Reservoir<LightId>> reservoirs(9, finalised(1u, 4u, 1.0f));
     const std::vector<Point> surfaces(9);
     const restir::ImageView<const Reservoir<LightId>> view{reservoirs.data(), 3u, 3u};

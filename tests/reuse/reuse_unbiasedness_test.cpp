@@ -175,7 +175,7 @@ private:
     ReuseSetup setup_;
     restir::TemporalParams temporal_ = restir::default_temporal_params();
     restir::SpatialParams spatial_ = restir::default_spatial_params();
-    restir::NeighborOffsets offsets_ = restir::make_neighbor_offsets();
+    restir::NeighbourOffsets offsets_ = restir::make_neighbour_offsets();
     std::vector<Reservoir<LightId>> history_, final_;
     std::vector<Patch> surfaces_;
 };

@@ -6,7 +6,7 @@
 
 #include <restir/core/reservoir.hpp>
 #include <restir/light/irradiance.hpp>
-#include <restir/light/light_sampler.hpp>
+#include <restir/sampling/light_sampler.hpp>
 #include <restir/sampling/alias_table.hpp>
 #include <restir/sampling/light_tile_arrays.hpp>
 
@@ -381,9 +381,9 @@ TEST(LightTileArrays, BlockTargetsMatchUnshadowedIrradiance) {
     const std::vector<restir::PresampledLight> entries = tile_entries();
     const glm::vec3 channel_weights(0.2f, 0.7f, 0.1f);
     const std::array<restir::Falloff, 3> falloffs = {
-        restir::Falloff{restir::Attenuation::yuksel, 0.3f},
-        restir::Falloff{restir::Attenuation::clamped_inverse_square, 0.3f},
-        restir::Falloff{restir::Attenuation::inverse_square, 0.3f}};
+        restir::Falloff{restir::FalloffKind::yuksel, 0.3f},
+        restir::Falloff{restir::FalloffKind::clamped_inverse_square, 0.3f},
+        restir::Falloff{restir::FalloffKind::inverse_square, 0.3f}};
     for (const restir::Falloff& falloff : falloffs) {
         // Tile 1 of three; the other two hold NaN, so reading outside tile 1 shows.
         restir::LightTileArrays tiles{nullptr, nullptr, 3u, 24u};

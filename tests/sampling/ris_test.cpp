@@ -2,7 +2,7 @@
 // over many independent trials as |mean - truth| < 4 standard errors measured from them.
 #include <restir/sampling/ris.hpp>
 
-#include <restir/light/light_sampler.hpp>
+#include <restir/sampling/light_sampler.hpp>
 #include <restir/sampling/alias_table.hpp>
 
 #include "support/discrete_lights.hpp"

@@ -86,7 +86,7 @@ TEST(PhotonShooter, VplIndirectIrradianceMatchesDirectIntegration) {
     const RectangleLights lights{{restir::test::ceiling_light(1.0f, 0.5f, glm::vec3(1.0f))}};
     const glm::vec3 sensor(0.8f, 0.3f, 0.1f);
     const glm::vec3 sensor_normal(0.0f, -1.0f, 0.0f);
-    const restir::Falloff exact{restir::Attenuation::inverse_square, 0.0f};
+    const restir::Falloff exact{restir::FalloffKind::inverse_square, 0.0f};
 
     PhotonParams params = restir::default_photon_params();
     params.photon_count = 4'000u;

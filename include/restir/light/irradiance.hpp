@@ -6,7 +6,7 @@
 #include "restir/concepts.hpp"
 #include "restir/config.hpp"
 #include "restir/core/math.hpp"
-#include "restir/light/attenuation.hpp"
+#include "restir/light/falloff.hpp"
 
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
@@ -20,18 +20,18 @@ namespace restir {
 /// exact 1/d^2 (unbiased, unbounded near a light); `yuksel` and `clamped` bound it and are
 /// biased (docs/noise-and-bias.md): VPL renderers want one of them, by name.
 struct Falloff {
-    Attenuation kind = Attenuation::inverse_square;
+    FalloffKind kind = FalloffKind::inverse_square;
     float parameter = 0.0f; ///< Yuksel radius or minimum distance, in scene units.
 
     /// Exact inverse square (the default).
     RESTIR_HOST_DEVICE static constexpr Falloff exact() noexcept { return {}; }
     /// Yuksel's attenuation with sphere radius `radius` (biased, finite everywhere).
     RESTIR_HOST_DEVICE static constexpr Falloff yuksel(float radius) noexcept {
-        return {Attenuation::yuksel, radius};
+        return {FalloffKind::yuksel, radius};
     }
     /// 1 / max(d, `min_distance`)^2 (biased, finite everywhere).
     RESTIR_HOST_DEVICE static constexpr Falloff clamped(float min_distance) noexcept {
-        return {Attenuation::clamped_inverse_square, min_distance};
+        return {FalloffKind::clamped_inverse_square, min_distance};
     }
 };
 
@@ -66,7 +66,7 @@ RESTIR_HOST_DEVICE glm::vec3 unshadowed_irradiance(const P& light, glm::vec3 pos
     const float cos_light = emission_cosine(light.normal, -direction);
     // Both falloffs, then a select: candidates mix area lights and VPLs at random, and half of
     // them face away, so branches here would mispredict often.
-    const float delta_falloff = attenuate(falloff.kind, distance, falloff.parameter);
+    const float delta_falloff = evaluate_falloff(falloff.kind, distance, falloff.parameter);
     const float area_falloff =
         safe_divide(1.0f, distance_squared * static_cast<float>(light.area_pdf));
     const float geometry = cos_receiver * cos_light;

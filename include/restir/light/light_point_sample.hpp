@@ -8,7 +8,7 @@
 #include "restir/concepts.hpp"
 #include "restir/config.hpp"
 #include "restir/core/math.hpp"
-#include "restir/light/attenuation.hpp"
+#include "restir/light/falloff.hpp"
 #include "restir/light/irradiance.hpp"
 #include "restir/light/light_sample.hpp"
 #include "restir/light/shadow_segment.hpp"
@@ -79,11 +79,11 @@ static_assert(sizeof(LightPointSample) == 48u);
 RESTIR_HOST_DEVICE inline float folded_falloff(const Falloff& falloff) noexcept {
     const float squared = falloff.parameter * falloff.parameter;
     switch (falloff.kind) {
-    case Attenuation::yuksel:
+    case FalloffKind::yuksel:
         return squared;
-    case Attenuation::clamped_inverse_square:
+    case FalloffKind::clamped_inverse_square:
         return -squared;
-    case Attenuation::inverse_square:
+    case FalloffKind::inverse_square:
         break;
     }
     return 0.0f;

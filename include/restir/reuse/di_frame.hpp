@@ -27,7 +27,7 @@
 #include "restir/reuse/bias_correction.hpp"
 #include "restir/reuse/boiling_filter.hpp"
 #include "restir/reuse/image_view.hpp"
-#include "restir/reuse/neighbor_offsets.hpp"
+#include "restir/reuse/neighbour_offsets.hpp"
 #include "restir/reuse/reuse_input.hpp"
 #include "restir/reuse/spatial.hpp"
 #include "restir/reuse/temporal.hpp"
@@ -90,7 +90,7 @@ struct DiFrame {
     ImageView<const S> previous_surfaces{};
     ImageView<const Reservoir<Sample>> history{};
     Reproject reproject{};
-    NeighborOffsets offsets = make_neighbor_offsets();
+    NeighbourOffsets offsets = make_neighbour_offsets();
 
     /// Whether stage 2 reuses anything this frame.
     RESTIR_HOST_DEVICE constexpr bool has_history() const noexcept {

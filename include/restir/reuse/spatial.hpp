@@ -12,7 +12,7 @@
 #include "restir/core/rng.hpp"
 #include "restir/reuse/bias_correction.hpp"
 #include "restir/reuse/image_view.hpp"
-#include "restir/reuse/neighbor_offsets.hpp"
+#include "restir/reuse/neighbour_offsets.hpp"
 #include "restir/reuse/reuse_input.hpp"
 #include "restir/reuse/similarity.hpp"
 
@@ -51,14 +51,14 @@ RESTIR_HOST_DEVICE constexpr std::int32_t offset_coordinate(std::int32_t coordin
 }
 
 /// Neighbour `i` (0 <= i < k) of `pixel` for a pass that drew `start` (its first uniform
-/// number, as `uniform_index(u, neighbor_offset_count)`) and `rotation` (cos and sin of an
+/// number, as `uniform_index(u, neighbour_offset_count)`) and `rotation` (cos and sin of an
 /// angle from its second, `neighbour_rotation`): offset `start + i` of `offsets` rotated,
 /// scaled by the radius (NaN and negative radii count as 0) and rounded to the nearest pixel
 /// (`offset_coordinate`: offsets clamped to 2^24, defined for any rotation and any pixel). For
 /// renderers that fetch the neighbours' data ahead of the pass (prefetching, packets of rays).
 RESTIR_HOST_DEVICE constexpr PixelCoord spatial_neighbour(PixelCoord pixel, std::uint32_t start,
                                                           std::uint32_t i, float radius,
-                                                          const NeighborOffsets& offsets,
+                                                          const NeighbourOffsets& offsets,
                                                           DiskOffset rotation = {1.0f, 0.0f}) {
     const float r = radius > 0.0f ? radius : 0.0f; // NaN and negative: no offset
     const DiskOffset table = offsets[start + i];
@@ -112,7 +112,7 @@ struct SpatialNeighbours {
     std::uint32_t start = 0u;
     DiskOffset rotation{1.0f, 0.0f};
     float radius = 0.0f;
-    const NeighborOffsets* offsets = nullptr;
+    const NeighbourOffsets* offsets = nullptr;
     ImageView<const Reservoir<Sample>> reservoirs{};
     ImageView<const S> surfaces{};
     std::uint32_t count = 0u;                       ///< The neighbours tried.
@@ -155,11 +155,11 @@ template <class Sample, Surface S, class MaterialTest, UniformRng Rng>
 RESTIR_HOST_DEVICE SpatialNeighbours<Sample, S>
 find_spatial_neighbours(PixelCoord centre, const S& surface,
                         ImageView<const Reservoir<Sample>> reservoirs, ImageView<const S> surfaces,
-                        const SpatialParams& params, const NeighborOffsets& offsets,
+                        const SpatialParams& params, const NeighbourOffsets& offsets,
                         const MaterialTest& material_test, Rng& rng) {
     SpatialNeighbours<Sample, S> set;
     // Locals while searching: the set is the caller's memory.
-    const std::uint32_t start = uniform_index(next_float(rng), neighbor_offset_count);
+    const std::uint32_t start = uniform_index(next_float(rng), neighbour_offset_count);
     const DiskOffset rotation = neighbour_rotation(next_float(rng));
     const std::uint32_t count = min_of(params.neighbour_count, max_reuse_inputs - 1u);
     std::uint32_t lends = 0u;
@@ -200,7 +200,7 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
     RESTIR_HOST_DEVICE Reservoir<Sample>
     spatial_resample(PixelCoord pixel, ImageView<const Reservoir<Sample>> reservoirs,
                      ImageView<const S> surfaces, const SpatialParams& params,
-                     const NeighborOffsets& offsets,
+                     const NeighbourOffsets& offsets,
                      const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng) {
     RESTIR_ASSERT(reservoirs.contains(pixel) && surfaces.contains(pixel));
     if (!reservoirs.contains(pixel) || !surfaces.contains(pixel))

@@ -11,7 +11,7 @@
 #include "restir/core/rng.hpp"
 #include "restir/reuse/bias_correction.hpp"
 #include "restir/reuse/image_view.hpp"
-#include "restir/reuse/neighbor_offsets.hpp"
+#include "restir/reuse/neighbour_offsets.hpp"
 #include "restir/reuse/reuse_input.hpp"
 #include "restir/reuse/similarity.hpp"
 #include "restir/reuse/spatial.hpp"
@@ -49,7 +49,7 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
                             ImageView<const Reservoir<Sample>> previous_reservoirs,
                             ImageView<const S> previous_surfaces, const Reproject& reproject,
                             const TemporalParams& temporal, const SpatialParams& spatial,
-                            const NeighborOffsets& offsets,
+                            const NeighbourOffsets& offsets,
                             const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng) {
     if (!is_valid_surface(surface))
         return current;

@@ -8,7 +8,7 @@
 #include "restir/core/discrete_sample.hpp"
 #include "restir/core/rng.hpp"
 #include "restir/light/light_sample.hpp"
-#include "restir/light/light_sampler.hpp"
+#include "restir/sampling/light_sampler.hpp"
 #include "restir/sampling/ris.hpp"
 
 #include <glm/vec2.hpp>

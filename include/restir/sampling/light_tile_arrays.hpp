@@ -9,7 +9,7 @@
 #include "restir/config.hpp"
 #include "restir/core/channels.hpp"
 #include "restir/core/math.hpp"
-#include "restir/light/attenuation.hpp"
+#include "restir/light/falloff.hpp"
 #include "restir/light/irradiance.hpp"
 #include "restir/light/light_point_sample.hpp"
 #include "restir/light/light_sample.hpp"

@@ -11,8 +11,8 @@
 #include "restir/core/math.hpp"
 #include "restir/core/rng.hpp"
 #include "restir/light/light_sample.hpp"
-#include "restir/light/light_sampler.hpp"
 #include "restir/sampling/light_candidates.hpp"
+#include "restir/sampling/light_sampler.hpp"
 #include "restir/sampling/ris.hpp"
 
 #include <glm/vec2.hpp>

@@ -8,7 +8,7 @@
 #include "restir/config.hpp"
 #include "restir/core/math.hpp"
 #include "restir/core/rng.hpp"
-#include "restir/light/light_sampler.hpp"
+#include "restir/sampling/light_sampler.hpp"
 #include "restir/sampling/alias_table.hpp"
 #include "restir/vpl/emitter_points.hpp"
 #include "restir/vpl/vpl.hpp"

@@ -63,7 +63,7 @@ TEST(UnifiedLightSet, RisOverEmittersAndVplsIsUnbiased) {
     const restir::PowerLightSampler sampler{table.view()};
     const glm::vec3 receiver(0.1f, -0.6f, 0.2f);
     const glm::vec3 normal(0.0f, 1.0f, 0.0f);
-    const restir::Falloff falloff{restir::Attenuation::yuksel, 0.05f};
+    const restir::Falloff falloff{restir::FalloffKind::yuksel, 0.05f};
     const auto irradiance = [&](const restir::LightSampleRef& ref) {
         return channel_sum(restir::unshadowed_irradiance(lights.sample_point(ref.light_id, ref.uv),
                                                          receiver, normal, falloff));

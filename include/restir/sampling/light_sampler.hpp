@@ -1,32 +1,20 @@
-/// @file light/light_sampler.hpp
-/// The light-sampler contract (the source distribution of RIS candidates) and the two
-/// samplers the library ships: uniform, and proportional to power through an alias table.
+/// @file sampling/light_sampler.hpp
+/// The two light samplers the library ships (the source distribution of RIS candidates):
+/// uniform, and proportional to power through an alias table. Their contract, `LightSampler`,
+/// is part of the bridge (concepts.hpp).
 #pragma once
 
+#include "restir/concepts.hpp"
 #include "restir/config.hpp"
 #include "restir/core/discrete_sample.hpp"
 #include "restir/core/math.hpp"
 #include "restir/core/rng.hpp"
-#include "restir/sampling/alias_table.hpp"
+#include "restir/sampling/alias_table_view.hpp"
 
 #include <concepts>
 #include <cstdint>
 
 namespace restir {
-
-/// Chooses a light id. Required expressions, for `const S s`, floats `u0, u1` in [0, 1) and
-/// `std::uint32_t id`:
-///   `s.sample(u0, u1)`  -> DiscreteSample {light id, pmf}; pmf 0 means "no light".
-///   `s.pmf(id)`         -> float, the probability that `sample` returns `id`.
-///   `s.light_count()`   -> std::uint32_t.
-/// Sampling must cost O(1) per call so that candidate generation does not grow with the
-/// number of lights.
-template <class S>
-concept LightSampler = requires(const S& s, float u, std::uint32_t id) {
-    { s.sample(u, u) } -> std::same_as<DiscreteSample>;
-    { s.pmf(id) } -> std::convertible_to<float>;
-    { s.light_count() } -> std::convertible_to<std::uint32_t>;
-};
 
 /// Every light with probability 1 / N.
 struct UniformLightSampler {

@@ -1,4 +1,4 @@
-/// @file light/unified_light_set.hpp
+/// @file vpl/unified_light_set.hpp
 /// Emitters and VPLs as one light set with one id space, so that RIS and ReSTIR sample direct
 /// and indirect light through the same reservoirs and the same candidate distribution.
 #pragma once

@@ -1,4 +1,4 @@
-#include <restir/light/light_sampler.hpp>
+#include <restir/sampling/light_sampler.hpp>
 
 #include <restir/core/rng.hpp>
 #include <restir/sampling/alias_table.hpp>

@@ -1,4 +1,4 @@
-/// @file reuse/neighbor_offsets.hpp
+/// @file reuse/neighbour_offsets.hpp
 /// A fixed low-discrepancy set of points in the unit disk, from which spatial reuse picks its
 /// neighbours: a random starting index per pixel, then consecutive entries, scaled by the
 /// radius. Consecutive points of the R2 sequence (Roberts 2018) cover the disk evenly, so any k
@@ -18,27 +18,27 @@ struct DiskOffset {
 };
 
 /// How many offsets the table holds (a power of two, so wrapping is a mask).
-inline constexpr std::uint32_t neighbor_offset_count = 64u;
+inline constexpr std::uint32_t neighbour_offset_count = 64u;
 
 /// The offset table; trivially copyable, 512 bytes (GPU constant memory fits it).
-struct NeighborOffsets {
-    DiskOffset offsets[neighbor_offset_count];
+struct NeighbourOffsets {
+    DiskOffset offsets[neighbour_offset_count];
 
     /// Entry `i` modulo the table size.
     RESTIR_HOST_DEVICE constexpr DiskOffset operator[](std::uint32_t i) const noexcept {
-        return offsets[i & (neighbor_offset_count - 1u)];
+        return offsets[i & (neighbour_offset_count - 1u)];
     }
 };
 
 /// The R2 sequence x_n = frac(0.5 + n / g, 0.5 + n / g^2), g the plastic number, mapped to
 /// [-1, 1]^2; points outside the unit disk are skipped.
-RESTIR_HOST_DEVICE constexpr NeighborOffsets make_neighbor_offsets() noexcept {
+RESTIR_HOST_DEVICE constexpr NeighbourOffsets make_neighbour_offsets() noexcept {
     constexpr double plastic = 1.32471795724474602596;
     constexpr double a1 = 1.0 / plastic;
     constexpr double a2 = 1.0 / (plastic * plastic);
-    NeighborOffsets table{};
+    NeighbourOffsets table{};
     std::uint32_t filled = 0u;
-    for (std::uint32_t n = 1u; filled < neighbor_offset_count; ++n) {
+    for (std::uint32_t n = 1u; filled < neighbour_offset_count; ++n) {
         double u = 0.5 + a1 * n;
         double v = 0.5 + a2 * n;
         u -= static_cast<double>(static_cast<std::uint64_t>(u));

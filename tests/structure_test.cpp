@@ -1,0 +1,222 @@
+// The project's structure, checked on its sources: the library's folders layer without an
+// include cycle, and no function of the examples (what integrators copy) is longer than
+// 60 lines.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path source_dir = RESTIR_SOURCE_DIR;
+constexpr int max_function_lines = 60;
+
+std::string read_text(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
+using Graph = std::map<std::string, std::set<std::string>>;
+
+/// The folder of a header below include/restir ("reuse" for restir/reuse/x.hpp); a header at
+/// the top level is a node of its own ("concepts.hpp").
+std::string node_of(const std::string& header) {
+    const std::string path = header.substr(header.find('/') + 1);
+    const std::size_t slash = path.find('/');
+    return slash == std::string::npos ? path : path.substr(0, slash);
+}
+
+/// Edges between the nodes of `#include "restir/..."` lines of every library header.
+Graph library_include_graph() {
+    Graph graph;
+    const std::regex include_line(R"re(#include\s+"(restir/[^"]+)")re");
+    for (const auto& entry : fs::recursive_directory_iterator(source_dir / "include")) {
+        if (entry.path().extension() != ".hpp")
+            continue;
+        const std::string header = fs::relative(entry.path(), source_dir / "include").string();
+        const std::string from = node_of(header);
+        graph[from];
+        const std::string text = read_text(entry.path());
+        for (std::sregex_iterator it(text.begin(), text.end(), include_line), end; it != end;
+             ++it) {
+            const std::string to = node_of((*it)[1].str());
+            if (to != from)
+                graph[from].insert(to);
+        }
+    }
+    return graph;
+}
+
+/// One cycle of `graph` as "a -> b -> a", or "" when it has none (depth-first search).
+std::string find_cycle(const Graph& graph) {
+    std::map<std::string, int> state; // 0 unvisited, 1 on the path, 2 done
+    std::vector<std::string> path;
+    std::string cycle;
+    auto visit = [&](auto&& self, const std::string& node) -> bool {
+        state[node] = 1;
+        path.push_back(node);
+        const auto edges = graph.find(node);
+        if (edges != graph.end())
+            for (const std::string& next : edges->second) {
+                if (state[next] == 1) {
+                    auto from = std::find(path.begin(), path.end(), next);
+                    for (; from != path.end(); ++from)
+                        cycle += *from + " -> ";
+                    cycle += next;
+                    return true;
+                }
+                if (state[next] == 0 && self(self, next))
+                    return true;
+            }
+        path.pop_back();
+        state[node] = 2;
+        return false;
+    };
+    for (const auto& [node, edges] : graph)
+        if (state[node] == 0 && visit(visit, node))
+            return cycle;
+    return "";
+}
+
+/// `text` with comments, preprocessor lines, string and character literals blanked, line
+/// breaks kept.
+std::string code_only(const std::string& text) {
+    std::string out = text;
+    for (std::size_t i = 0; i < out.size(); ++i) {
+        auto blank_until = [&](std::size_t end) {
+            for (; i < end && i < out.size(); ++i)
+                if (out[i] != '\n')
+                    out[i] = ' ';
+            --i;
+        };
+        const std::size_t line_start = out.rfind('\n', i) + 1; // 0 on the first line
+        const bool line_begins_here = out.find_first_not_of(" \t", line_start) == i;
+        if (out[i] == '#' && line_begins_here) {
+            blank_until(out.find('\n', i));
+        } else if (out.compare(i, 2, "//") == 0) {
+            blank_until(out.find('\n', i));
+        } else if (out.compare(i, 2, "/*") == 0) {
+            blank_until(out.find("*/", i) + 2);
+        } else if (out.compare(i, 3, "R\"(") == 0) {
+            blank_until(out.find(")\"", i) + 2);
+        } else if (out[i] == '"' || (out[i] == '\'' && (i == 0 || !std::isalnum(out[i - 1])))) {
+            const char quote = out[i];
+            std::size_t end = i + 1;
+            while (end < out.size() && out[end] != quote && out[end] != '\n')
+                end += out[end] == '\\' ? 2 : 1;
+            blank_until(end + 1);
+        }
+    }
+    return out;
+}
+
+struct LongFunction {
+    int first_line = 0;
+    int lines = 0;
+};
+
+/// Functions (and lambdas at namespace or class scope) of `text` whose body, from the line of
+/// its opening brace to the line of its closing brace, is longer than `limit` lines. A brace
+/// opens a function body when only namespaces and classes enclose it and the text before it,
+/// since the previous `;`, `{` or `}`, has a parenthesis and is no namespace, class or enum.
+std::vector<LongFunction> long_functions(const std::string& text, int limit) {
+    const std::string code = code_only(text);
+    struct Open {
+        bool scope = false;    ///< A namespace, class, struct, union or enum.
+        bool function = false; ///< A function body at namespace or class scope.
+        int line = 0;
+    };
+    std::vector<Open> open;
+    std::vector<LongFunction> found;
+    const std::regex scope_head(
+        R"(^\s*(template\s*<[^{]*>\s*)?(namespace|class|struct|union|enum|extern)\b)");
+    std::size_t head_start = 0;
+    int line = 1;
+    for (std::size_t i = 0; i < code.size(); ++i) {
+        const char c = code[i];
+        if (c == '\n')
+            ++line;
+        if (c == '{') {
+            const std::string head = code.substr(head_start, i - head_start);
+            const bool at_scope =
+                std::all_of(open.begin(), open.end(), [](const Open& o) { return o.scope; });
+            const bool scope =
+                std::regex_search(head, scope_head) && head.find('(') == std::string::npos;
+            open.push_back(
+                {scope, at_scope && !scope && head.find('(') != std::string::npos, line});
+            head_start = i + 1;
+        } else if (c == '}' && !open.empty()) {
+            const Open block = open.back();
+            open.pop_back();
+            if (block.function && line - block.line + 1 > limit)
+                found.push_back({block.line, line - block.line + 1});
+            head_start = i + 1;
+        } else if (c == ';') {
+            head_start = i + 1;
+        }
+    }
+    return found;
+}
+
+TEST(Structure, FindsACycleOnlyWhereThereIsOne) {
+    EXPECT_EQ(find_cycle({{"a", {"b"}}, {"b", {"c"}}, {"c", {}}}), "");
+    EXPECT_EQ(find_cycle({{"a", {"b"}}, {"b", {"c"}}, {"c", {"b"}}}), "b -> c -> b");
+    EXPECT_EQ(node_of("restir/reuse/spatial.hpp"), "reuse");
+    EXPECT_EQ(node_of("restir/concepts.hpp"), "concepts.hpp");
+}
+
+TEST(Structure, LibraryFoldersIncludeEachOtherWithoutACycle) {
+    const Graph graph = library_include_graph();
+    ASSERT_GE(graph.size(), 5u) << "include/restir not found under " << source_dir;
+    EXPECT_EQ(find_cycle(graph), "") << "an include cycle between folders of include/restir";
+    // The bridge pulls in no host-only code: the concepts need only the core.
+    for (const std::string& to : graph.at("concepts.hpp"))
+        EXPECT_TRUE(to == "core" || to == "config.hpp") << "concepts.hpp includes " << to;
+}
+
+TEST(Structure, MeasuresFunctionLengths) {
+    const std::string source = "namespace n {\n"
+                               "struct S {\n"
+                               "    int f() {\n"
+                               "        if (x) {\n"
+                               "        }\n"
+                               "        return 1; // }\n"
+                               "    }\n"
+                               "};\n"
+                               "#define F(x) {\n"
+                               "const char* s = \"{\";\n"
+                               "}\n";
+    const std::vector<LongFunction> found = long_functions(source, 4);
+    ASSERT_EQ(found.size(), 1u);
+    EXPECT_EQ(found[0].first_line, 3);
+    EXPECT_EQ(found[0].lines, 5);
+    EXPECT_TRUE(long_functions(source, 5).empty());
+}
+
+TEST(Structure, ExampleFunctionsAreShort) {
+    int files = 0;
+    for (const auto& entry : fs::recursive_directory_iterator(source_dir / "examples")) {
+        const std::string extension = entry.path().extension().string();
+        if (extension != ".cpp" && extension != ".hpp")
+            continue;
+        ++files;
+        for (const LongFunction& f : long_functions(read_text(entry.path()), max_function_lines))
+            ADD_FAILURE() << fs::relative(entry.path(), source_dir).string() << ":" << f.first_line
+                          << ": a function of " << f.lines << " lines (at most "
+                          << max_function_lines << ")";
+    }
+    EXPECT_GT(files, 10);
+}
+
+} // namespace
