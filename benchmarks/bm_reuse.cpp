@@ -10,7 +10,7 @@
 // column is disoccluded.
 //
 // Samples are LightSampleRef (point lights ignore uv). The target function is
-// power * cos(theta) * yuksel_attenuation(distance) at the surface. Visibility is a
+// power * cos(theta) * yuksel_falloff(distance) at the surface. Visibility is a
 // deterministic hash of the light id and a 0.5-unit cell of the surface position that
 // blocks about a quarter of the lights: it stands in for a shadow ray, whose cost is
 // excluded here so that the figures isolate the library's work. With visibility reuse (the
@@ -26,12 +26,12 @@
 #include "restir/core/discrete_sample.hpp"
 #include "restir/core/reservoir.hpp"
 #include "restir/core/rng.hpp"
-#include "restir/light/attenuation.hpp"
+#include "restir/light/falloff.hpp"
 #include "restir/light/light_sample.hpp"
-#include "restir/light/light_sampler.hpp"
+#include "restir/sampling/light_sampler.hpp"
 #include "restir/reuse/bias_correction.hpp"
 #include "restir/reuse/image_view.hpp"
-#include "restir/reuse/neighbor_offsets.hpp"
+#include "restir/reuse/neighbour_offsets.hpp"
 #include "restir/reuse/spatial.hpp"
 #include "restir/reuse/temporal.hpp"
 #include "restir/reuse/visibility.hpp"
@@ -150,7 +150,7 @@ struct LightTarget {
         const float cosine = glm::dot(surface_normal(surface), to_light) / distance;
         if (!(cosine > 0.0f))
             return 0.0f;
-        return light.power * cosine * restir::yuksel_attenuation(distance, kLightRadius);
+        return light.power * cosine * restir::yuksel_falloff(distance, kLightRadius);
     }
 };
 
@@ -195,7 +195,7 @@ struct Scene {
     std::vector<PointLight> lights;
     std::vector<GSurface> previous_surfaces, current_surfaces;
     std::vector<Reservoir<LightSampleRef>> previous_reservoirs, current_reservoirs;
-    restir::NeighborOffsets offsets = restir::make_neighbor_offsets();
+    restir::NeighbourOffsets offsets = restir::make_neighbour_offsets();
 
     restir::ImageView<const GSurface> previous_surface_view() const {
         return {previous_surfaces.data(), kWidth, kHeight};

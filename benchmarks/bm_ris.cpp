@@ -8,8 +8,8 @@
 // Items are candidates; the time per iteration is the time of one RIS call.
 #include "restir/core/discrete_sample.hpp"
 #include "restir/core/rng.hpp"
-#include "restir/light/attenuation.hpp"
-#include "restir/light/light_sampler.hpp"
+#include "restir/light/falloff.hpp"
+#include "restir/sampling/light_sampler.hpp"
 #include "restir/sampling/alias_table.hpp"
 #include "restir/sampling/light_tile_arrays.hpp"
 #include "restir/sampling/light_tiles.hpp"
@@ -87,7 +87,7 @@ void run_ris(benchmark::State& state, const std::vector<PointLight>& lights,
         const auto target = [light_data, receiver](std::uint32_t id) {
             const PointLight& light = light_data[id];
             const float distance = glm::length(light.position - receiver);
-            return light.power * restir::yuksel_attenuation(distance, kLightRadius);
+            return light.power * restir::yuksel_falloff(distance, kLightRadius);
         };
         auto reservoir = restir::resample_ris(rng, kCandidates, draw, target);
         benchmark::DoNotOptimize(reservoir);
@@ -159,7 +159,7 @@ struct Tiles {
         for (std::uint32_t i = 0; i < kTileCount * kTileSize; ++i) {
             restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 50u);
             view.store(i / kTileSize, i % kTileSize, restir::presample_light(sampler, set, rng),
-                       {restir::Attenuation::yuksel, kLightRadius});
+                       {restir::FalloffKind::yuksel, kLightRadius});
         }
     }
 };

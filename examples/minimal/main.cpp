@@ -69,7 +69,7 @@ glm::vec3 shade(const S& surface, const P& light) {
     const float distance = glm::length(to_light);
     const float cosine = std::max(glm::dot(surface_normal(surface), to_light) / distance, 0.0f);
     return kAlbedo * std::numbers::inv_pi_v<float> * cosine *
-           restir::yuksel_attenuation(distance, kLightRadius) * light.radiance;
+           restir::yuksel_falloff(distance, kLightRadius) * light.radiance;
 }
 
 // Bridge, target function p-hat: the luminance of f.

@@ -100,7 +100,7 @@ struct Renderer::Impl {
     restir::AliasTable light_table;   // unified: emitters + VPLs, by power
     restir::AliasTable emitter_table; // emitters only, by power (path tracing NEE)
     restir::AliasTable vpl_table;     // VPLs only, by power (reference VPL NEE)
-    restir::NeighborOffsets offsets = restir::make_neighbor_offsets();
+    restir::NeighbourOffsets offsets = restir::make_neighbour_offsets();
 
     std::vector<GSurface> surfaces, previous_surfaces;
     ReservoirBuffer reservoirs, previous_reservoirs, scratch;
