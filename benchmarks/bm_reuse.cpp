@@ -28,7 +28,6 @@
 #include "restir/core/rng.hpp"
 #include "restir/light/falloff.hpp"
 #include "restir/light/light_sample.hpp"
-#include "restir/sampling/light_sampler.hpp"
 #include "restir/reuse/bias_correction.hpp"
 #include "restir/reuse/image_view.hpp"
 #include "restir/reuse/neighbour_offsets.hpp"
@@ -36,6 +35,7 @@
 #include "restir/reuse/temporal.hpp"
 #include "restir/reuse/visibility.hpp"
 #include "restir/sampling/alias_table.hpp"
+#include "restir/sampling/light_sampler.hpp"
 #include "restir/sampling/ris.hpp"
 
 #include <benchmark/benchmark.h>
@@ -66,8 +66,6 @@ constexpr float kCameraHeight = 20.0f;       // Orthographic camera looking stra
 constexpr float kShadowCell = 0.5f;          // Size of the cells the occlusion hash reads.
 constexpr std::uint32_t kPreviousFrame = 0u;
 constexpr std::uint32_t kCurrentFrame = 1u;
-constexpr std::uint32_t kTemporalPass = 1u; // make_pixel_rng pass numbers.
-constexpr std::uint32_t kSpatialPass = 2u;
 
 // A G-buffer texel.
 struct GSurface {
@@ -223,7 +221,7 @@ void render_initial(const Scene& scene, const restir::PowerLightSampler& sampler
         surfaces[i] = surface;
         if (!surface.valid)
             continue;
-        restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 0u);
+        restir::Pcg32 rng = restir::make_pixel_rng(i, frame, restir::RngStream::initial);
         reservoirs[i] = restir::resample_ris(
             rng, kCandidates,
             [&sampler](restir::Pcg32& g) {
@@ -261,7 +259,7 @@ template <bool Counting>
 Reservoir<LightSampleRef> temporal_pixel(const Scene& s, std::uint32_t index,
                                          const restir::TemporalParams& params,
                                          const Bridge<Counting>& bridge) {
-    restir::Pcg32 rng = restir::make_pixel_rng(index, kCurrentFrame, kTemporalPass);
+    restir::Pcg32 rng = restir::make_pixel_rng(index, kCurrentFrame, restir::RngStream::temporal);
     return restir::temporal_resample(pixel_at(index), s.current_reservoirs[index],
                                      s.current_surfaces[index], s.previous_reservoir_view(),
                                      s.previous_surface_view(), PanReprojection{}, params, bridge,
@@ -272,7 +270,7 @@ template <bool Counting>
 Reservoir<LightSampleRef> spatial_pixel(const Scene& s, std::uint32_t index,
                                         const restir::SpatialParams& params,
                                         const Bridge<Counting>& bridge) {
-    restir::Pcg32 rng = restir::make_pixel_rng(index, kCurrentFrame, kSpatialPass);
+    restir::Pcg32 rng = restir::make_pixel_rng(index, kCurrentFrame, restir::RngStream::spatial);
     return restir::spatial_resample(pixel_at(index), s.current_reservoir_view(),
                                     s.current_surface_view(), params, s.offsets, bridge, rng);
 }

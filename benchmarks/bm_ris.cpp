@@ -9,8 +9,8 @@
 #include "restir/core/discrete_sample.hpp"
 #include "restir/core/rng.hpp"
 #include "restir/light/falloff.hpp"
-#include "restir/sampling/light_sampler.hpp"
 #include "restir/sampling/alias_table.hpp"
+#include "restir/sampling/light_sampler.hpp"
 #include "restir/sampling/light_tile_arrays.hpp"
 #include "restir/sampling/light_tiles.hpp"
 #include "restir/sampling/ris.hpp"
@@ -157,7 +157,7 @@ struct Tiles {
               std::uint32_t frame) const {
         const PointLightSet set{lights.data(), static_cast<std::uint32_t>(lights.size())};
         for (std::uint32_t i = 0; i < kTileCount * kTileSize; ++i) {
-            restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 50u);
+            restir::Pcg32 rng = restir::make_pixel_rng(i, frame, restir::RngStream::application);
             view.store(i / kTileSize, i % kTileSize, restir::presample_light(sampler, set, rng),
                        {restir::FalloffKind::yuksel, kLightRadius});
         }

@@ -22,7 +22,13 @@ if [ -n "$nvcc_bin" ]; then
   mkdir -p build/cuda
   "$nvcc_bin" "${nvcc_flags[@]}" -c tests/cuda/kernel_compile.cu -o build/cuda/kernel_compile.o
   "$nvcc_bin" "${nvcc_flags[@]}" tests/cuda/device_check.cu -o build/cuda/device_check
-  echo "passed: tests/cuda/*.cu compile with $("$nvcc_bin" --version | tail -1)"
+  # Each header alone, as g++ checks it in CMake (restir_header_check).
+  for header in $(cd include && find restir -name '*.hpp' | sort); do
+    echo "#include <$header>" >build/cuda/header.cu
+    "$nvcc_bin" "${nvcc_flags[@]}" -c build/cuda/header.cu -o build/cuda/header.o ||
+      { echo "$header does not compile alone under nvcc"; exit 1; }
+  done
+  echo "passed: tests/cuda/*.cu and each header alone compile with $("$nvcc_bin" --version | tail -1)"
   if nvidia-smi -L >/dev/null 2>&1; then
     build/cuda/device_check
   else

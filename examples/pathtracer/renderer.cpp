@@ -25,7 +25,7 @@ namespace pt {
 
 namespace {
 
-constexpr float inv_pi = 0.3183098861837907f;
+using restir::inv_pi;
 
 float max_component(glm::vec3 c) { return std::max(c.x, std::max(c.y, c.z)); }
 
@@ -52,7 +52,7 @@ double milliseconds_since(Clock::time_point start) {
 glm::vec3 sample_cosine(glm::vec3 normal, restir::Pcg32& rng) {
     const float u0 = next_float(rng);
     const float u1 = next_float(rng);
-    return restir::sample_emission_direction(normal, u0, u1);
+    return restir::sample_diffuse_direction(normal, u0, u1);
 }
 
 } // namespace
@@ -317,7 +317,8 @@ struct Renderer::Impl {
         for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
             float jx = 0.5f, jy = 0.5f;
             if (settings.antialias) {
-                restir::Pcg32 rng = restir::make_pixel_rng(i, frame_index, 0u, settings.seed);
+                restir::Pcg32 rng = restir::make_pixel_rng(
+                    i, frame_index, RenderStream::pixel_jitter, settings.seed);
                 jx = next_float(rng);
                 jy = next_float(rng);
             }
@@ -486,8 +487,8 @@ struct Renderer::Impl {
             tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0u, tile_count * tile_size, 256u),
                               [&](const tbb::blocked_range<std::uint32_t>& range) {
                                   for (std::uint32_t i = range.begin(); i < range.end(); ++i) {
-                                      restir::Pcg32 rng =
-                                          restir::make_pixel_rng(i, frame_index, 50u, seed);
+                                      restir::Pcg32 rng = restir::make_pixel_rng(
+                                          i, frame_index, RenderStream::light_tiles, seed);
                                       const restir::PresampledLight entry =
                                           settings.source == CandidateSource::power
                                               ? restir::presample_light(power, lights, rng)
@@ -618,7 +619,7 @@ struct Renderer::Impl {
                 if (!surfaces[i].valid)
                     return;
                 restir::Pcg32 rng = restir::make_pixel_rng(
-                    i, f.frame_index, restir::DiStream::initial, settings.seed);
+                    i, f.frame_index, restir::RngStream::initial, settings.seed);
                 reservoirs[i] = initial_reservoir(x, y, f.frame_index, surfaces[i], rng);
             });
             // The recipe's `initial` with deferred visibility: this packet.
@@ -656,7 +657,7 @@ struct Renderer::Impl {
             k = 0;
             for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
                 restir::Pcg32 rng = restir::make_pixel_rng(
-                    i, f.frame_index, restir::DiStream::temporal, settings.seed);
+                    i, f.frame_index, restir::RngStream::temporal, settings.seed);
                 scratch[i] = f.temporal_combine(coord(x, y), reservoirs[i], inputs[k],
                                                 cached_bridge(caches[k]), rng);
                 ++k;
@@ -686,8 +687,8 @@ struct Renderer::Impl {
             std::array<restir::Pcg32, pixels> rngs;
             std::uint32_t k = 0;
             for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
-                rngs[k] = restir::make_pixel_rng(i, f.frame_index, restir::DiStream::spatial + pass,
-                                                 settings.seed);
+                rngs[k] = restir::make_pixel_rng(i, f.frame_index,
+                                                 restir::RngStream::spatial + pass, settings.seed);
                 const auto set =
                     f.spatial_neighbours(coord(x, y), input, restir::AnyMaterial{}, rngs[k]);
                 for (std::uint32_t j = 0; j < set.size(); ++j)
@@ -750,8 +751,8 @@ struct Renderer::Impl {
                     color = s.emitted + (f.params.reuse.visibility_reuse ? unshadowed(reservoir, s)
                                                                          : shade(reservoir, s));
                     if (settings.gi == GlobalIllumination::path) {
-                        restir::Pcg32 rng =
-                            restir::make_pixel_rng(i, f.frame_index, 100u, settings.seed);
+                        restir::Pcg32 rng = restir::make_pixel_rng(
+                            i, f.frame_index, RenderStream::path, settings.seed);
                         color += path_radiance(s, rng, false, true);
                     }
                 }
@@ -809,7 +810,7 @@ struct Renderer::Impl {
         if (!(cos_light > 0.0f) || !(cos_surface > 0.0f) || !visible(ref, s))
             return glm::vec3(0.0f);
         const float light_pdf = c.pmf * light.area_pdf * d2 / cos_light; // solid angle
-        const float bsdf_pdf = cos_surface * inv_pi;
+        const float bsdf_pdf = restir::diffuse_direction_pdf(s.normal, w);
         return reflected(s, light) / c.pmf * (light_pdf / (light_pdf + bsdf_pdf));
     }
 
@@ -867,7 +868,7 @@ struct Renderer::Impl {
                 const float cos_light = -glm::dot(hit.normal, direction);
                 const float light_pdf = emitter_table.pmf(emitter) / emitters.area(emitter) *
                                         hit.distance * hit.distance / cos_light;
-                const float bsdf_pdf = glm::dot(s.normal, direction) * inv_pi;
+                const float bsdf_pdf = restir::diffuse_direction_pdf(s.normal, direction);
                 radiance +=
                     throughput * emitters.radiance(emitter) * (bsdf_pdf / (bsdf_pdf + light_pdf));
             }
@@ -970,7 +971,7 @@ struct Renderer::Impl {
         const bool light_sample = settings.method != Method::reference;
         for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
             restir::Pcg32& rng = rngs[local(i)];
-            rng = restir::make_pixel_rng(i, index, 1u, settings.seed);
+            rng = restir::make_pixel_rng(i, index, RenderStream::independent, settings.seed);
             Reservoir& reservoir = picked[local(i)];
             reservoir = Reservoir{};
             const GSurface& s = surfaces[i];

@@ -21,7 +21,7 @@ struct LambertianScatter {
         const glm::vec3 facing = glm::dot(hit.normal, incoming) < 0.0f ? hit.normal : -hit.normal;
         const float u0 = next_float(rng);
         const float u1 = next_float(rng);
-        return {restir::sample_emission_direction(facing, u0, u1), m.albedo, m.albedo, true,
+        return {restir::sample_diffuse_direction(facing, u0, u1), m.albedo, m.albedo, true,
                 m.is_emissive()};
     }
 };

@@ -277,7 +277,7 @@ Scene make_many_lights(std::uint32_t light_count, std::uint64_t seed) {
     add_quad(scene, {{{-f, 0.0f, -f}, {f, 0.0f, -f}, {f, 0.0f, f}, {-f, 0.0f, f}}},
              {0.0f, 1.0f, 0.0f}, 0);
 
-    restir::Pcg32 rng = restir::make_pixel_rng(0u, 0u, 0u, seed);
+    restir::Pcg32 rng = restir::make_pixel_rng(0u, 0u, RenderStream::scene_layout, seed);
     const LightPalette palette = draw_palette(rng);
     const double weighted_area = add_light_quads(scene, light_count, palette, rng);
     add_light_materials(scene, palette, weighted_area);

@@ -5,6 +5,7 @@
 
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
+#include <restir/core/rng.hpp>
 
 #include <cstdint>
 #include <filesystem>
@@ -15,6 +16,16 @@
 #include <vector>
 
 namespace pt {
+
+/// The renderer's random streams (the `stream` of `restir::make_pixel_rng`), numbered after the
+/// library's.
+struct RenderStream {
+    static constexpr std::uint32_t pixel_jitter = restir::RngStream::application;
+    static constexpr std::uint32_t independent = pixel_jitter + 1u; ///< uniform, ris, reference
+    static constexpr std::uint32_t light_tiles = pixel_jitter + 2u;
+    static constexpr std::uint32_t path = pixel_jitter + 3u;         ///< path-traced indirect light
+    static constexpr std::uint32_t scene_layout = pixel_jitter + 4u; ///< many-light scene
+};
 
 /// A diffuse material: reflectance and emitted radiance (both linear RGB).
 struct Material {

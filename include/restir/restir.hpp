@@ -29,6 +29,7 @@
 #include "restir/reuse/temporal.hpp"
 #include "restir/reuse/visibility.hpp"
 #include "restir/sampling/alias_table.hpp"
+#include "restir/sampling/diffuse_direction.hpp"
 #include "restir/sampling/light_candidates.hpp"
 #include "restir/sampling/light_tile_arrays.hpp"
 #include "restir/sampling/light_tiles.hpp"

@@ -77,7 +77,7 @@ TEST(HostileFloats, NeighboursAndDirectionsAreDefined) {
         EXPECT_GE(n.y, 5 - 16777217);
         for (float v : hostile) {
             const glm::vec3 d =
-                restir::sample_emission_direction(glm::vec3(0.0f, 0.0f, 1.0f), u, v);
+                restir::sample_diffuse_direction(glm::vec3(0.0f, 0.0f, 1.0f), u, v);
             (void)d; // any value: only the absence of undefined behaviour is checked
         }
     }

@@ -133,7 +133,7 @@ struct Matte {
                                                      Rng& rng) const {
         const float u0 = next_float(rng);
         const float u1 = next_float(rng);
-        return {restir::sample_emission_direction(surface_normal(hit), u0, u1), glm::vec3(0.6f),
+        return {restir::sample_diffuse_direction(surface_normal(hit), u0, u1), glm::vec3(0.6f),
                 glm::vec3(0.6f), true, false};
     }
 };

@@ -84,7 +84,7 @@ struct Grey {
                                                      Rng& rng) const {
         const float u0 = next_float(rng);
         const float u1 = next_float(rng);
-        return {restir::sample_emission_direction(surface_normal(hit), u0, u1), glm::vec3(0.5f),
+        return {restir::sample_diffuse_direction(surface_normal(hit), u0, u1), glm::vec3(0.5f),
                 glm::vec3(0.5f), true, false};
     }
 };
@@ -125,7 +125,7 @@ __global__ void tile_kernel(restir::PresampledLight* entries, const glm::vec3* e
                             std::uint32_t emitter_count, const restir::AliasEntry* alias_entries,
                             float* out) {
     const auto i = static_cast<std::uint32_t>(blockIdx.x * blockDim.x + threadIdx.x);
-    restir::Pcg32 rng = restir::make_pixel_rng(i, 0u, 50u);
+    restir::Pcg32 rng = restir::make_pixel_rng(i, 0u, restir::RngStream::application);
     const PointEmitters lights{emitters, emitter_count};
     const restir::PowerLightSampler sampler{restir::AliasTableView{alias_entries, emitter_count}};
     entries[i] = restir::presample_light(sampler, lights, rng);
@@ -150,7 +150,7 @@ __global__ void batch_ris_kernel(float* planes, restir::LightSampleRef* referenc
                                  const restir::AliasEntry* alias_entries, float* out) {
     const auto i = static_cast<std::uint32_t>(blockIdx.x * blockDim.x + threadIdx.x);
     const restir::LightTileArrays tiles{planes, references, 4u, 64u};
-    restir::Pcg32 rng = restir::make_pixel_rng(i, 0u, 50u);
+    restir::Pcg32 rng = restir::make_pixel_rng(i, 0u, restir::RngStream::application);
     const PointEmitters lights{emitters, emitter_count};
     const restir::PowerLightSampler sampler{restir::AliasTableView{alias_entries, emitter_count}};
     const restir::Falloff falloff{restir::FalloffKind::yuksel, 0.05f};
@@ -185,7 +185,7 @@ __global__ void reuse_kernel(const glm::vec3* light_positions, const GBufferTexe
     if (!surfaces.contains({x, y}))
         return;
     const std::uint32_t index = surfaces.index_of({x, y});
-    restir::Pcg32 rng = restir::make_pixel_rng(index, 1u, 1u);
+    restir::Pcg32 rng = restir::make_pixel_rng(index, 1u, restir::RngStream::initial);
     const restir::ReuseBridge bridge{SurfaceTarget{light_positions}, HeightVisibility{}};
     restir::Reservoir<restir::LightSampleRef> current = history[{x, y}];
     restir::apply_visibility(current, texels[index], bridge.visibility);
@@ -222,11 +222,12 @@ __global__ void recipe_initial_temporal_kernel(RecipeFrame frame, const glm::vec
         return;
     const std::uint32_t index = frame.surfaces.index_of(pixel);
     const restir::ReuseBridge bridge{SurfaceTarget{light_positions}, HeightVisibility{}};
-    restir::Pcg32 rng = restir::make_pixel_rng(index, frame.frame_index, restir::DiStream::initial);
+    restir::Pcg32 rng =
+        restir::make_pixel_rng(index, frame.frame_index, restir::RngStream::initial);
     const DistanceTarget target{light_positions, surface_position(frame.surfaces[pixel])};
     RecipeReservoir r = frame.initial(
         pixel, restir::resample_ris(rng, 32u, UniformDraw{light_count}, target), bridge.visibility);
-    rng = restir::make_pixel_rng(index, frame.frame_index, restir::DiStream::temporal);
+    rng = restir::make_pixel_rng(index, frame.frame_index, restir::RngStream::temporal);
     out[pixel] = frame.temporal(pixel, r, bridge, rng);
 }
 
@@ -239,7 +240,7 @@ __global__ void recipe_spatial_kernel(RecipeFrame frame, const glm::vec3* light_
         return;
     const restir::ReuseBridge bridge{SurfaceTarget{light_positions}, HeightVisibility{}};
     restir::Pcg32 rng = restir::make_pixel_rng(frame.surfaces.index_of(pixel), frame.frame_index,
-                                               restir::DiStream::spatial + pass);
+                                               restir::RngStream::spatial + pass);
     out[pixel] = frame.spatial(pixel, pass, in, bridge, rng);
 }
 

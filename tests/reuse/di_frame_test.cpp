@@ -19,7 +19,7 @@ namespace {
 
 using namespace restir::test::synthetic;
 using restir::BiasCorrection;
-using restir::DiStream;
+using restir::RngStream;
 using restir::Reservoir;
 using restir::test::RunningStats;
 
@@ -117,7 +117,7 @@ public:
         for (std::uint32_t i = 0; i < pixel_count; ++i) {
             if (!surfaces[i].valid)
                 continue;
-            restir::Pcg32 rng = rng_for(pixel_of(i), frame, DiStream::initial, 0u);
+            restir::Pcg32 rng = rng_for(pixel_of(i), frame, RngStream::initial, 0u);
             current[i] = draw_initial(surfaces[i], rng);
             if (reuse.visibility_reuse)
                 restir::apply_visibility(current[i], surfaces[i], Visibility{});
@@ -126,7 +126,7 @@ public:
             restir::TemporalParams temporal = p_.temporal;
             temporal.reuse = reuse;
             temporal.frame_index = frame;
-            restir::Pcg32 temporal_rng = rng_for(pixel_of(i), frame, DiStream::temporal, 0u);
+            restir::Pcg32 temporal_rng = rng_for(pixel_of(i), frame, RngStream::temporal, 0u);
             current[i] = restir::temporal_resample(
                 pixel_of(i), current[i], surfaces[i],
                 restir::ImageView<const Reservoir<LightId>>{history_.data(), width, height},
@@ -140,7 +140,7 @@ public:
         for (std::uint32_t pass = 0; pass < p_.spatial_passes; ++pass) {
             Image next(pixel_count);
             for (std::uint32_t i = 0; i < pixel_count; ++i) {
-                restir::Pcg32 rng = rng_for(pixel_of(i), frame, DiStream::spatial + pass, 0u);
+                restir::Pcg32 rng = rng_for(pixel_of(i), frame, RngStream::spatial + pass, 0u);
                 next[i] = restir::spatial_resample(
                     pixel_of(i),
                     restir::ImageView<const Reservoir<LightId>>{current.data(), width, height},
@@ -287,7 +287,7 @@ TEST(DiFrame, DeferredVisibilityLeavesTheStageRaysToTheCaller) {
     for (std::uint32_t i = 0; i < pixel_count; ++i) {
         if (!surfaces[i].valid)
             continue;
-        restir::Pcg32 rng = rng_for(pixel_of(i), 0u, DiStream::initial, 0u);
+        restir::Pcg32 rng = rng_for(pixel_of(i), 0u, RngStream::initial, 0u);
         const Reservoir<LightId> candidates = draw_initial(surfaces[i], rng);
         const Reservoir<LightId> initial = f.initial(pixel_of(i), candidates, counting);
         const Reservoir<LightId> finished = f.finish(pixel_of(i), candidates, counting);

@@ -75,7 +75,7 @@ struct Lambertian {
         const glm::vec3 facing = glm::dot(hit.normal, incoming) > 0.0f ? -hit.normal : hit.normal;
         const float u0 = next_float(rng);
         const float u1 = next_float(rng);
-        return {sample_emission_direction(facing, u0, u1), albedo, albedo, true, false};
+        return {sample_diffuse_direction(facing, u0, u1), albedo, albedo, true, false};
     }
 };
 

@@ -182,8 +182,9 @@ TEST(PhotonShooter, BadInputGivesAnEmptySetAndNeverNaN) {
     PhotonParams no_points = params;
     no_points.points_per_emitter = 0u;
     EXPECT_TRUE(restir::shoot_photons(box_light(), ClosedBox{}, Lambertian{}, no_points).empty());
-    // Photons that leave the scene deposit nothing; black surfaces deposit nothing.
-    EXPECT_TRUE(restir::shoot_photons(box_light(), FloorOnly{0.01f}, Lambertian{}, params).empty());
+    // Photons that leave the scene (a floor of no extent) deposit nothing; black surfaces
+    // deposit nothing.
+    EXPECT_TRUE(restir::shoot_photons(box_light(), FloorOnly{0.0f}, Lambertian{}, params).empty());
     EXPECT_TRUE(restir::shoot_photons(box_light(), ClosedBox{}, Lambertian{glm::vec3(0.0f)}, params)
                     .empty());
     for (const Vpl& v : restir::shoot_photons(box_light(), ClosedBox{}, Lambertian{}, params))
@@ -219,12 +220,12 @@ TEST(EmissionDirections, CosineAndSphereDensities) {
     RunningStats cosine, sphere;
     for (int i = 0; i < 200'000; ++i) {
         const float u0 = next_float(rng), u1 = next_float(rng);
-        const glm::vec3 d = restir::sample_emission_direction(normal, u0, u1);
+        const glm::vec3 d = restir::sample_diffuse_direction(normal, u0, u1);
         ASSERT_NEAR(glm::length(d), 1.0f, 1e-5f);
         ASSERT_GE(glm::dot(d, normal), -1e-6f);
         cosine.add(static_cast<double>(glm::dot(d, normal)));
         sphere.add(static_cast<double>(
-            glm::dot(restir::sample_emission_direction(glm::vec3(0.0f), u0, u1), normal)));
+            glm::dot(restir::sample_diffuse_direction(glm::vec3(0.0f), u0, u1), normal)));
     }
     EXPECT_TRUE(restir::test::agrees_with(cosine, 2.0 / 3.0));
     EXPECT_TRUE(restir::test::agrees_with(sphere, 0.0));

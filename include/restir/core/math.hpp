@@ -8,6 +8,10 @@
 
 namespace restir {
 
+inline constexpr float pi = 3.14159265358979f;      ///< pi, rounded to float.
+inline constexpr float two_pi = 6.28318530717959f;  ///< 2 pi, rounded to float.
+inline constexpr float inv_pi = 0.318309886183791f; ///< 1 / pi, rounded to float.
+
 /// True when `x` is neither NaN nor infinite. Written on the bit pattern so that it stays
 /// correct under -ffast-math, where `std::isfinite` may be folded to `true`.
 RESTIR_HOST_DEVICE constexpr bool is_finite(float x) noexcept {

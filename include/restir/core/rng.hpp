@@ -62,16 +62,31 @@ struct Pcg32 {
 /// `UniformRng` hook for Pcg32.
 RESTIR_HOST_DEVICE constexpr float next_float(Pcg32& rng) noexcept { return rng.next_unit_float(); }
 
-/// Counter-based seeding: a generator determined only by (pixel, frame, pass, seed).
+/// The random streams (the `stream` of `make_pixel_rng`), one per purpose, so that no two
+/// purposes draw the same numbers for the same index and frame. The frame recipe's stages
+/// draw from `initial`, `temporal` and `spatial + p` for spatial pass p (p < 16); the photon
+/// shooter from `photons` (index: photon), emitter points from `emitter_points` (index:
+/// emitter). Applications number their own streams from `application` on.
+struct RngStream {
+    static constexpr std::uint32_t initial = 1u;
+    static constexpr std::uint32_t temporal = 2u;
+    static constexpr std::uint32_t spatial = 3u;
+    static constexpr std::uint32_t emitter_points = 32u;
+    static constexpr std::uint32_t photons = 33u;
+    static constexpr std::uint32_t application = 64u;
+};
+
+/// Counter-based seeding: a generator determined only by (pixel, frame, stream, seed).
 /// Every tuple gets its own state and its own stream, so a pixel's random numbers are the
-/// same whichever thread, tile order or GPU block computes it.
+/// same whichever thread, tile order or GPU block computes it. `pixel` is any index (a
+/// pixel, a photon, a light); `stream` names the purpose (`RngStream`).
 RESTIR_HOST_DEVICE constexpr Pcg32 make_pixel_rng(std::uint32_t pixel, std::uint32_t frame,
-                                                  std::uint32_t pass,
+                                                  std::uint32_t stream,
                                                   std::uint64_t seed = 0u) noexcept {
     const std::uint64_t key = mix64(seed ^ mix64((std::uint64_t{pixel} << 32u) | frame));
     Pcg32 rng;
-    rng.seed(mix64(key ^ (std::uint64_t{pass} * 0x9e3779b97f4a7c15ull)),
-             mix64(key + std::uint64_t{pass} + 0x632be59bd9b4e019ull));
+    rng.seed(mix64(key ^ (std::uint64_t{stream} * 0x9e3779b97f4a7c15ull)),
+             mix64(key + std::uint64_t{stream} + 0x632be59bd9b4e019ull));
     return rng;
 }
 

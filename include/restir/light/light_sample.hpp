@@ -3,6 +3,7 @@
 /// (a point on the light with its normal, emitted radiance and density).
 #pragma once
 
+#include "restir/concepts.hpp"
 #include "restir/config.hpp"
 
 #include <glm/vec2.hpp>
@@ -36,6 +37,18 @@ struct LightSample {
     float area_pdf = 0.0f;    ///< Density of the point per unit area of the light, given the light.
     bool is_delta = false;    ///< True for point lights and VPLs (no area measure).
 };
+
+/// Any `LightPoint` (the application's own point record) as a `LightSample`.
+template <LightPoint P>
+RESTIR_HOST_DEVICE constexpr LightSample to_light_sample(const P& p) {
+    LightSample point;
+    point.position = p.position;
+    point.normal = p.normal;
+    point.radiance = p.radiance;
+    point.area_pdf = p.area_pdf;
+    point.is_delta = p.is_delta;
+    return point;
+}
 
 static_assert(std::is_trivially_copyable_v<LightSampleRef>);
 static_assert(std::is_trivially_copyable_v<LightSample>);

@@ -38,15 +38,6 @@
 
 namespace restir {
 
-/// The random stream (the `pass` of `make_pixel_rng`) of each stage of the recipe; spatial
-/// pass p draws from `spatial + p`. Separate streams keep a stage's numbers independent of how
-/// many numbers earlier stages drew.
-struct DiStream {
-    static constexpr std::uint32_t initial = 1u;
-    static constexpr std::uint32_t temporal = 2u;
-    static constexpr std::uint32_t spatial = 3u;
-};
-
 /// Settings of a ReSTIR DI frame.
 struct DiFrameParams {
     /// Bias correction and visibility reuse of every pass: it replaces the `reuse` fields of
@@ -310,7 +301,7 @@ private:
 /// once for every pixel of the image, in any order or in parallel, and returns when all calls
 /// have returned. `initial_candidates(pixel, surface, rng)` returns the pixel's finalised RIS
 /// reservoir (called for valid surfaces only). `rng_for(pixel, stream)` returns a generator
-/// for the pixel and a `DiStream` stream (e.g. `make_pixel_rng(index, frame, stream, seed)`).
+/// for the pixel and a `RngStream` stream (e.g. `make_pixel_rng(index, frame, stream, seed)`).
 /// Writes the final reservoirs to `out`, which becomes the next frame's `history`; `scratch`
 /// is the second working buffer; both have the image's size and neither may be `history`.
 template <class Sample, Surface S, Reprojection Reproject, class ForEachPixel, class Initial,
@@ -333,10 +324,10 @@ void run_di_frame(const DiFrame<Sample, S, Reproject>& frame, ImageView<Reservoi
     for_each_pixel([&](PixelCoord pixel) {
         Reservoir<Sample> r{};
         if (is_valid_surface(frame.surfaces[pixel])) {
-            auto rng = rng_for(pixel, DiStream::initial);
+            auto rng = rng_for(pixel, RngStream::initial);
             r = frame.initial(pixel, initial_candidates(pixel, frame.surfaces[pixel], rng),
                               bridge.visibility);
-            auto temporal_rng = rng_for(pixel, DiStream::temporal);
+            auto temporal_rng = rng_for(pixel, RngStream::temporal);
             r = frame.temporal(pixel, r, bridge, temporal_rng);
         }
         // Without history and further passes, stage 1 has tested the sample already.
@@ -348,7 +339,7 @@ void run_di_frame(const DiFrame<Sample, S, Reproject>& frame, ImageView<Reservoi
         const ImageView<const Reservoir<Sample>> input = target;
         ImageView<Reservoir<Sample>> written = other;
         for_each_pixel([&](PixelCoord pixel) {
-            auto rng = rng_for(pixel, DiStream::spatial + pass);
+            auto rng = rng_for(pixel, RngStream::spatial + pass);
             written[pixel] = last(pixel, frame.spatial(pixel, pass, input, bridge, rng));
         });
         other = target;

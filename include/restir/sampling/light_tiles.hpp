@@ -45,14 +45,9 @@ RESTIR_HOST_DEVICE PresampledLight presample_light(const Sampler& sampler, const
     PresampledLight entry;
     entry.reference = candidate.sample;
     entry.pdf = candidate.pdf;
-    if (candidate.pdf > 0.0f) {
-        const auto p = lights.sample_point(entry.reference.light_id, entry.reference.uv);
-        entry.point.position = p.position;
-        entry.point.normal = p.normal;
-        entry.point.radiance = p.radiance;
-        entry.point.area_pdf = p.area_pdf;
-        entry.point.is_delta = p.is_delta;
-    }
+    if (candidate.pdf > 0.0f)
+        entry.point =
+            to_light_sample(lights.sample_point(entry.reference.light_id, entry.reference.uv));
     return entry;
 }
 

@@ -33,9 +33,8 @@ template <LightPoint P>
 RESTIR_HOST_DEVICE glm::vec3 emitted_flux(const P& point, std::uint32_t sample_count) {
     const auto n = static_cast<float>(sample_count);
     if (point.is_delta)
-        return glm::vec3(point.radiance) * (4.0f * 3.14159265358979f / n);
-    return glm::vec3(point.radiance) *
-           safe_divide(3.14159265358979f, static_cast<float>(point.area_pdf) * n);
+        return glm::vec3(point.radiance) * (4.0f * pi / n);
+    return glm::vec3(point.radiance) * safe_divide(pi, static_cast<float>(point.area_pdf) * n);
 }
 
 /// Converts every emitter of `lights` (ids 0 .. light_count - 1) into `points_per_emitter`
@@ -53,7 +52,7 @@ make_emitter_points(const Lights& lights, std::uint32_t points_per_emitter, std:
     const auto side =
         static_cast<std::uint32_t>(std::sqrt(static_cast<double>(points_per_emitter)));
     for (std::uint32_t id = 0; id < emitter_count; ++id) {
-        Pcg32 rng = make_pixel_rng(id, 0u, 0u, seed);
+        Pcg32 rng = make_pixel_rng(id, 0u, RngStream::emitter_points, seed);
         const auto keep = [&](const auto& point, std::uint32_t count) {
             const glm::vec3 flux = emitted_flux(point, count);
             if (is_valid_weight(flux.x) && is_valid_weight(flux.y) && is_valid_weight(flux.z) &&

@@ -8,8 +8,9 @@
 #include "restir/config.hpp"
 #include "restir/core/math.hpp"
 #include "restir/core/rng.hpp"
-#include "restir/sampling/light_sampler.hpp"
 #include "restir/sampling/alias_table.hpp"
+#include "restir/sampling/diffuse_direction.hpp"
+#include "restir/sampling/light_sampler.hpp"
 #include "restir/vpl/emitter_points.hpp"
 #include "restir/vpl/vpl.hpp"
 
@@ -48,7 +49,8 @@ struct Scattering {
 /// The scatter hook. Required expression:
 ///   `scatter(hit, incoming, rng)` -> Scattering, where `incoming` is the photon's unit
 ///   direction of travel and `rng` a UniformRng for sampling the continuation (the shooter
-///   passes its `Pcg32`; a template over the generator works everywhere).
+///   passes the generator it was given: `Pcg32` through `trace_photon`; a template over the
+///   generator works everywhere).
 template <class F, class Hit, class Rng>
 concept ScatterFunction = requires(const F& scatter, const Hit& hit, glm::vec3 incoming, Rng& rng) {
     { scatter(hit, incoming, rng) } -> std::convertible_to<Scattering>;
@@ -78,44 +80,19 @@ struct PhotonSource {
     AliasTableView table{};
 };
 
-/// Unit vector with density cos(theta) / pi about `normal` (Malley's method), or uniform over
-/// the sphere (density 1 / 4 pi) when `normal` is zero.
-RESTIR_HOST_DEVICE inline glm::vec3 sample_emission_direction(glm::vec3 normal, float u0,
-                                                              float u1) {
-    constexpr float two_pi = 6.28318530717959f;
-    const float phi = two_pi * u1;
-    if (normal.x == 0.0f && normal.y == 0.0f && normal.z == 0.0f) {
-        const float z = 1.0f - 2.0f * u0;
-        const float r = std::sqrt(max_of(0.0f, 1.0f - z * z));
-        return {r * std::cos(phi), r * std::sin(phi), z};
-    }
-    const float r = std::sqrt(u0);
-    const float z = std::sqrt(max_of(0.0f, 1.0f - u0));
-    // Orthonormal basis about the normal (Duff et al. 2017).
-    const float sign = normal.z >= 0.0f ? 1.0f : -1.0f;
-    const float a = -1.0f / (sign + normal.z);
-    const float b = normal.x * normal.y * a;
-    const glm::vec3 tangent{1.0f + sign * normal.x * normal.x * a, sign * b, -sign * normal.x};
-    const glm::vec3 bitangent{b, sign + normal.y * normal.y * a, -normal.y};
-    // The frame is orthonormal, so the result is unit length up to rounding.
-    return tangent * (r * std::cos(phi)) + bitangent * (r * std::sin(phi)) + normal * z;
-}
-
-/// Traces photon `photon_index` of `params.photon_count` and writes the VPLs it deposits to
-/// `out[0 .. max_bounces)`; returns how many. The photon's random numbers come from its own
-/// stream (`make_pixel_rng(photon_index, 0, 1, seed)`), so the result does not depend on which
-/// thread traces it. Flux bookkeeping: the photon leaves emitter point j, chosen with
-/// probability p_j, carrying Phi_j / (p_j N); at a diffuse hit it deposits Phi * albedo
-/// (reflected flux); it continues with probability q = min(1, max channel of the BSDF weight)
-/// and, if it does, carries Phi * weight / q. Every step is unbiased, so the expected VPL flux
-/// equals the flux reflected by diffuse surfaces up to `max_bounces` bounces.
-template <ClosestHitQuery Query, ScatterFunction<HitOf<Query>, Pcg32> Scatter>
-RESTIR_HOST_DEVICE std::uint32_t
-trace_photon(std::uint32_t photon_index, const PhotonSource& source, const Query& query,
-             const Scatter& scatter, const PhotonParams& params, Vpl* out) {
+/// Traces one photon of `params.photon_count` with the random numbers of `rng` and writes the
+/// VPLs it deposits to `out[0 .. max_bounces)`; returns how many. Flux bookkeeping: the photon
+/// leaves emitter point j, chosen with probability p_j, carrying Phi_j / (p_j N); at a diffuse
+/// hit it deposits Phi * albedo (reflected flux); it continues with probability q = min(1, max
+/// channel of the BSDF weight) and, if it does, carries Phi * weight / q. Every step is
+/// unbiased, so the expected VPL flux equals the flux reflected by diffuse surfaces up to
+/// `max_bounces` bounces.
+template <UniformRng Rng, ClosestHitQuery Query, ScatterFunction<HitOf<Query>, Rng> Scatter>
+RESTIR_HOST_DEVICE std::uint32_t trace_photon_with(Rng& rng, const PhotonSource& source,
+                                                   const Query& query, const Scatter& scatter,
+                                                   const PhotonParams& params, Vpl* out) {
     if (source.table.size == 0u || params.photon_count == 0u)
         return 0u;
-    Pcg32 rng = make_pixel_rng(photon_index, 0u, 1u, params.seed);
     const DiscreteSample choice = sample_light(PowerLightSampler{source.table}, rng);
     if (!(choice.pmf > 0.0f))
         return 0u;
@@ -123,7 +100,7 @@ trace_photon(std::uint32_t photon_index, const PhotonSource& source, const Query
     glm::vec3 power = emitter.flux / (choice.pmf * static_cast<float>(params.photon_count));
     const float u0 = next_float(rng);
     const float u1 = next_float(rng);
-    glm::vec3 direction = sample_emission_direction(emitter.normal, u0, u1);
+    glm::vec3 direction = sample_diffuse_direction(emitter.normal, u0, u1);
     glm::vec3 origin = emitter.position + emitter.normal * params.ray_offset;
 
     std::uint32_t written = 0u;
@@ -151,6 +128,17 @@ trace_photon(std::uint32_t photon_index, const PhotonSource& source, const Query
         origin = position + normal * (side * params.ray_offset);
     }
     return written;
+}
+
+/// `trace_photon_with` for photon `photon_index`, its random numbers from its own stream
+/// (`make_pixel_rng(photon_index, 0, RngStream::photons, params.seed)`), so the result does not
+/// depend on which thread traces it.
+template <ClosestHitQuery Query, ScatterFunction<HitOf<Query>, Pcg32> Scatter>
+RESTIR_HOST_DEVICE std::uint32_t
+trace_photon(std::uint32_t photon_index, const PhotonSource& source, const Query& query,
+             const Scatter& scatter, const PhotonParams& params, Vpl* out) {
+    Pcg32 rng = make_pixel_rng(photon_index, 0u, RngStream::photons, params.seed);
+    return trace_photon_with(rng, source, query, scatter, params, out);
 }
 
 /// What photons leave from, built on the host: the emitter points of a light set and an alias

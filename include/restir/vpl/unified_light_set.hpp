@@ -6,6 +6,7 @@
 #include "restir/concepts.hpp"
 #include "restir/config.hpp"
 #include "restir/light/light_sample.hpp"
+#include "restir/vpl/emitter_points.hpp"
 #include "restir/vpl/vpl.hpp"
 
 #include <glm/vec2.hpp>
@@ -34,35 +35,22 @@ struct UnifiedLightSet {
         const std::uint32_t emitter_total = emitter_count();
         if (id >= emitter_total)
             return vpl_light_sample(vpls[id - emitter_total]);
-        const auto p = emitters->sample_point(id, uv);
-        LightSample point;
-        point.position = p.position;
-        point.normal = p.normal;
-        point.radiance = p.radiance;
-        point.area_pdf = p.area_pdf;
-        point.is_delta = p.is_delta;
-        return point;
+        return to_light_sample(emitters->sample_point(id, uv));
     }
 };
 
 /// The power of each light of a unified set, the weights of its candidate distribution
 /// (feed them to an `AliasTable` and a `PowerLightSampler`): emitted flux summed over the
-/// colour channels for emitters (pi L / area_pdf at the emitter's centre for area lights,
-/// 4 pi I for isotropic point lights), reflected flux for VPLs.
+/// colour channels for emitters (`emitted_flux` of the emitter's centre point: pi L / area_pdf
+/// for area lights, 4 pi I for isotropic point lights), reflected flux for VPLs.
 template <LightSet Emitters>
 std::vector<float> unified_light_powers(const UnifiedLightSet<Emitters>& lights) {
     std::vector<float> powers(lights.light_count());
-    constexpr float pi = 3.14159265358979f;
     for (std::uint32_t id = 0; id < lights.light_count(); ++id) {
-        const LightSample p = lights.sample_point(id, glm::vec2(0.5f));
-        const float radiance = p.radiance.x + p.radiance.y + p.radiance.z;
-        float power = 0.0f;
-        if (lights.is_vpl(id))
-            power = pi * radiance; // Phi_r = pi * (Phi_r / pi)
-        else if (p.is_delta)
-            power = 4.0f * pi * radiance;
-        else if (p.area_pdf > 0.0f)
-            power = pi * radiance / p.area_pdf;
+        const glm::vec3 flux = lights.is_vpl(id)
+                                   ? lights.vpls[id - lights.emitter_count()].flux
+                                   : emitted_flux(lights.sample_point(id, glm::vec2(0.5f)), 1u);
+        const float power = flux.x + flux.y + flux.z;
         powers[id] = power >= 0.0f && power < 3.0e38f ? power : 0.0f;
     }
     return powers;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "restir/config.hpp"
+#include "restir/core/math.hpp"
 #include "restir/light/light_sample.hpp"
 
 #include <glm/vec3.hpp>
@@ -32,7 +33,7 @@ RESTIR_HOST_DEVICE inline LightSample vpl_light_sample(const Vpl& vpl) noexcept 
     LightSample point;
     point.position = vpl.position;
     point.normal = vpl.normal;
-    point.radiance = vpl.flux * 0.31830988618379067f; // 1 / pi
+    point.radiance = vpl.flux * inv_pi;
     point.area_pdf = 1.0f;
     point.is_delta = true;
     return point;
