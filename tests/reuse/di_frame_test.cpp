@@ -19,8 +19,8 @@ namespace {
 
 using namespace restir::test::synthetic;
 using restir::BiasCorrection;
-using restir::RngStream;
 using restir::Reservoir;
+using restir::RngStream;
 using restir::test::RunningStats;
 
 using Frame = restir::DiFrame<LightId, Patch, Reproject>;
@@ -52,10 +52,23 @@ restir::Pcg32 rng_for(PixelCoord p, std::uint32_t frame, std::uint32_t stream, s
     return restir::make_pixel_rng(index, frame, stream, seed);
 }
 
+// A history the recipe loads by value (a `ReservoirHistory`), over the same buffer.
+struct LoadingHistory {
+    const Reservoir<LightId>* data = nullptr;
+    std::uint32_t width = 0u, height = 0u;
+    bool empty() const { return data == nullptr; }
+    bool contains(PixelCoord p) const { return view().contains(p); }
+    Reservoir<LightId> load(PixelCoord p) const { return view()[p]; }
+    restir::ImageView<const Reservoir<LightId>> view() const { return {data, width, height}; }
+};
+static_assert(restir::ReservoirHistory<LoadingHistory, LightId>);
+
 // An application's frames through `run_di_frame`: keeps the G-buffers and the history.
-class RecipeRenderer {
+template <class History = restir::ImageView<const Reservoir<LightId>>>
+class RecipeRendererOf {
 public:
-    explicit RecipeRenderer(const restir::DiFrameParams& params, std::uint64_t seed = 0u)
+    using Frame = restir::DiFrame<LightId, Patch, Reproject, History>;
+    explicit RecipeRendererOf(const restir::DiFrameParams& params, std::uint64_t seed = 0u)
         : params_(params), seed_(seed) {}
 
     // Renders frame `frame`; `cut`: a camera cut (no history).
@@ -95,6 +108,7 @@ private:
     std::vector<Patch> previous_surfaces_ = std::vector<Patch>(pixel_count);
     Image out_ = Image(pixel_count), history_ = Image(pixel_count), scratch_ = Image(pixel_count);
 };
+using RecipeRenderer = RecipeRendererOf<>;
 
 // The same frames written out with the passes themselves, in the order docs/integration.md
 // gives, one fresh vector per pass; every pass output that feeds another is tested again.
@@ -227,6 +241,20 @@ TEST(DiFrame, RunDiFrameEqualsThePassesCalledByHand) {
         for (std::uint32_t frame = 0; frame < 6; ++frame) {
             const bool cut = frame == 3;
             expect_same(recipe.render(frame, cut), by_hand.render(frame, cut),
+                        variant.name + ", frame " + std::to_string(frame));
+        }
+    }
+}
+
+// A history loaded by value (the form a packed or translated history takes) gives the frames
+// that a view of the same reservoirs gives.
+TEST(DiFrame, LoadedHistoryEqualsTheViewedOne) {
+    for (const Variant& variant : variants()) {
+        RecipeRenderer viewed(variant.params);
+        RecipeRendererOf<LoadingHistory> loaded(variant.params);
+        for (std::uint32_t frame = 0; frame < 6; ++frame) {
+            const bool cut = frame == 3;
+            expect_same(loaded.render(frame, cut), viewed.render(frame, cut),
                         variant.name + ", frame " + std::to_string(frame));
         }
     }

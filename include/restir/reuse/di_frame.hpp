@@ -26,6 +26,7 @@
 #include "restir/core/rng.hpp"
 #include "restir/reuse/bias_correction.hpp"
 #include "restir/reuse/boiling_filter.hpp"
+#include "restir/reuse/history.hpp"
 #include "restir/reuse/image_view.hpp"
 #include "restir/reuse/neighbour_offsets.hpp"
 #include "restir/reuse/reuse_input.hpp"
@@ -68,8 +69,13 @@ RESTIR_HOST_DEVICE constexpr DiFrameParams default_di_frame_params() noexcept { 
 /// One frame of the recipe: the settings and the buffers that every pixel's stages read.
 /// Views hold pointers into the application's buffers (device pointers on a GPU).
 /// `Reproject` is `PixelCoord(PixelCoord)`: the previous frame's pixel that shows a pixel's
-/// surface (outside the image when it was not visible).
-template <class Sample, Surface S, Reprojection Reproject>
+/// surface (outside the image when it was not visible). `History` is last frame's reservoirs:
+/// an `ImageView` of them, or any `ReservoirHistory` (reuse/history.hpp), such as a
+/// `PackedHistory` with a light-id translation.
+template <class Sample, Surface S, Reprojection Reproject,
+          class History = ImageView<const Reservoir<Sample>>>
+requires std::same_as<History, ImageView<const Reservoir<Sample>>> ||
+    ReservoirHistory<History, Sample>
 struct DiFrame {
     DiFrameParams params = default_di_frame_params();
     std::uint32_t frame_index = 0u;
@@ -79,14 +85,21 @@ struct DiFrame {
     /// Leave `history` empty (`{}`) when it does not apply: in frame 0, after a camera cut,
     /// and after the light set changed (its samples would belong to another integrand).
     ImageView<const S> previous_surfaces{};
-    ImageView<const Reservoir<Sample>> history{};
+    History history{};
     Reproject reproject{};
     NeighbourOffsets offsets = make_neighbour_offsets();
 
+    /// Whether `history` is empty (frame 0, a camera cut, a new light set).
+    RESTIR_HOST_DEVICE constexpr bool history_is_empty() const noexcept {
+        if constexpr (requires { history.data; })
+            return history.data == nullptr;
+        else
+            return history.empty();
+    }
+
     /// Whether stage 2 reuses anything this frame.
     RESTIR_HOST_DEVICE constexpr bool has_history() const noexcept {
-        return params.temporal_reuse && history.data != nullptr &&
-               previous_surfaces.data != nullptr;
+        return params.temporal_reuse && !history_is_empty() && previous_surfaces.data != nullptr;
     }
 
     /// The temporal pass's settings as the recipe runs it. Under visibility reuse every
@@ -154,16 +167,51 @@ struct DiFrame {
                                 rng);
     }
 
-    /// The first half of `temporal`: the history input that stage 2 of `pixel` reuses (null
-    /// pointers when none), for renderers that trace its MIS ray ahead of `temporal_combine`.
+    /// Whether the history is loaded by value (a `ReservoirHistory`) rather than viewed.
+    static constexpr bool loads_history =
+        !std::same_as<History, ImageView<const Reservoir<Sample>>>;
+
+    /// The first half of `temporal`: the history input that stage 2 of `pixel` reuses, for
+    /// renderers that trace its MIS ray ahead of `temporal_combine`. A `ReuseInput` pointing
+    /// into the history view (null pointers when none), or for a `ReservoirHistory` a
+    /// `LoadedHistoryInput` (null surface when none).
     template <class MaterialTest = AnyMaterial>
-    RESTIR_HOST_DEVICE ReuseInput<Sample, S>
-    temporal_input(PixelCoord pixel, const MaterialTest& material_test = {}) const {
-        if (!has_history() || !is_valid_surface(surfaces[pixel]))
-            return {};
+    RESTIR_HOST_DEVICE auto temporal_input(PixelCoord pixel,
+                                           const MaterialTest& material_test = {}) const {
         const TemporalParams t = temporal_params();
-        return reusable_input(history_pixel(reproject(pixel), t), surfaces[pixel], history,
-                              previous_surfaces, t.similarity, material_test);
+        if constexpr (loads_history) {
+            LoadedHistoryInput<Sample, S> input{};
+            if (!has_history() || !is_valid_surface(surfaces[pixel]))
+                return input;
+            const PixelCoord p = history_pixel(reproject(pixel), t);
+            if (!history.contains(p) || !previous_surfaces.contains(p))
+                return input;
+            input.reservoir = history.load(p);
+            if (input.reservoir.is_well_formed() &&
+                surfaces_similar(surfaces[pixel], previous_surfaces[p], t.similarity,
+                                 material_test))
+                input.surface = &previous_surfaces[p];
+            return input;
+        } else {
+            if (!has_history() || !is_valid_surface(surfaces[pixel]))
+                return ReuseInput<Sample, S>{};
+            return reusable_input(history_pixel(reproject(pixel), t), surfaces[pixel], history,
+                                  previous_surfaces, t.similarity, material_test);
+        }
+    }
+
+    /// `temporal_combine` for a history input loaded by value.
+    template <class Target, class Visibility, class MaterialTest, UniformRng Rng>
+    requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
+        RESTIR_HOST_DEVICE Reservoir<Sample>
+        temporal_combine(PixelCoord pixel, const Reservoir<Sample>& current,
+                         const LoadedHistoryInput<Sample, S>& input,
+                         const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng)
+    const {
+        const ReuseInput<Sample, S> view =
+            input.surface != nullptr ? ReuseInput<Sample, S>{&input.reservoir, input.surface}
+                                     : ReuseInput<Sample, S>{};
+        return temporal_combine(pixel, current, view, bridge, rng);
     }
 
     /// The second half of `temporal`: combines `current` with the `input` that
@@ -304,11 +352,11 @@ private:
 /// for the pixel and a `RngStream` stream (e.g. `make_pixel_rng(index, frame, stream, seed)`).
 /// Writes the final reservoirs to `out`, which becomes the next frame's `history`; `scratch`
 /// is the second working buffer; both have the image's size and neither may be `history`.
-template <class Sample, Surface S, Reprojection Reproject, class ForEachPixel, class Initial,
-          class Target, class Visibility, class MaterialTest, class RngFor>
-void run_di_frame(const DiFrame<Sample, S, Reproject>& frame, ImageView<Reservoir<Sample>> out,
-                  ImageView<Reservoir<Sample>> scratch, const ForEachPixel& for_each_pixel,
-                  const Initial& initial_candidates,
+template <class Sample, Surface S, Reprojection Reproject, class History, class ForEachPixel,
+          class Initial, class Target, class Visibility, class MaterialTest, class RngFor>
+void run_di_frame(const DiFrame<Sample, S, Reproject, History>& frame,
+                  ImageView<Reservoir<Sample>> out, ImageView<Reservoir<Sample>> scratch,
+                  const ForEachPixel& for_each_pixel, const Initial& initial_candidates,
                   const ReuseBridge<Target, Visibility, MaterialTest>& bridge,
                   const RngFor& rng_for) {
     const DiFrameParams& p = frame.params;

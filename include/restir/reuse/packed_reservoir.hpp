@@ -1,0 +1,93 @@
+/// @file reuse/packed_reservoir.hpp
+/// The storage form of a `Reservoir<LightSampleRef>`, 20 bytes instead of 28, and a history of
+/// them with an optional light-id translation for temporal reuse.
+#pragma once
+
+#include "restir/config.hpp"
+#include "restir/core/math.hpp"
+#include "restir/core/reservoir.hpp"
+#include "restir/light/light_sample.hpp"
+#include "restir/reuse/history.hpp"
+#include "restir/reuse/image_view.hpp"
+
+#include <cstdint>
+#include <type_traits>
+
+namespace restir {
+
+/// A stored reservoir: what reuse reads of it (the sample, W, p-hat at its own surface and
+/// M), without the weight sum. The uv keeps 24 bits per coordinate, all that `next_float`
+/// draws, so a sample drawn from the library's generators comes back exactly; other uv values
+/// are truncated to a multiple of 2^-24. M saturates at 65535.
+struct PackedReservoir {
+    std::uint32_t light_id = 0u;
+    std::uint32_t u_and_v_low = 0u;   ///< u's 24 bits, then v's low 8 bits.
+    std::uint32_t v_high_and_m = 0u;  ///< v's high 16 bits, then M's 16 bits.
+    float contribution_weight = 0.0f; ///< W.
+    float target_value = 0.0f;        ///< p-hat(y) at the surface that owns the reservoir.
+};
+
+static_assert(std::is_trivially_copyable_v<PackedReservoir>);
+static_assert(sizeof(PackedReservoir) == 20u);
+
+/// The largest M a packed reservoir holds.
+inline constexpr std::uint32_t packed_max_candidate_count = 0xffffu;
+
+/// `r` in storage form; a reservoir with a NaN, infinite or negative field is stored empty
+/// (as `Reservoir::sanitize` leaves it).
+RESTIR_HOST_DEVICE constexpr PackedReservoir
+pack_reservoir(const Reservoir<LightSampleRef>& r) noexcept {
+    if (!r.is_well_formed())
+        return {};
+    const std::uint32_t u = unit_bits24(r.sample.uv.x);
+    const std::uint32_t v = unit_bits24(r.sample.uv.y);
+    const std::uint32_t m = min_of(r.candidate_count, packed_max_candidate_count);
+    return {r.sample.light_id, u | (v << 24u), (v >> 8u) | (m << 16u), r.contribution_weight,
+            r.target_value};
+}
+
+/// The working reservoir of a stored one. The weight sum, which reuse does not read, is set to
+/// M p-hat W (what `finalize` divides), so that `has_sample` answers as before packing.
+RESTIR_HOST_DEVICE constexpr Reservoir<LightSampleRef>
+unpack_reservoir(const PackedReservoir& p) noexcept {
+    Reservoir<LightSampleRef> r;
+    const std::uint32_t u = p.u_and_v_low & 0xffffffu;
+    const std::uint32_t v = (p.u_and_v_low >> 24u) | ((p.v_high_and_m & 0xffffu) << 8u);
+    r.sample.light_id = p.light_id;
+    r.sample.uv = {static_cast<float>(u) * 0x1p-24f, static_cast<float>(v) * 0x1p-24f};
+    r.candidate_count = p.v_high_and_m >> 16u;
+    r.contribution_weight = p.contribution_weight;
+    r.target_value = p.target_value;
+    const float sum =
+        static_cast<float>(r.candidate_count) * r.target_value * r.contribution_weight;
+    r.weight_sum = sum < 3.0e38f ? sum : 3.0e38f; // finite even where the product overflows
+    r.sanitize();
+    return r;
+}
+
+/// Last frame's packed reservoirs as a `ReservoirHistory` for `DiFrame`. `translate` maps a
+/// light id of last frame's light set to this frame's (`removed_light`: the light is gone, the
+/// pixel lends nothing): a renderer that rebuilds its light list keeps its history through it.
+/// Trivially copyable when `Translate` is.
+template <class Translate = SameLightIds>
+struct PackedHistory {
+    ImageView<const PackedReservoir> reservoirs{};
+    Translate translate{};
+
+    RESTIR_HOST_DEVICE constexpr bool empty() const noexcept { return reservoirs.data == nullptr; }
+    RESTIR_HOST_DEVICE constexpr bool contains(PixelCoord p) const noexcept {
+        return reservoirs.contains(p);
+    }
+    RESTIR_HOST_DEVICE constexpr Reservoir<LightSampleRef> load(PixelCoord p) const {
+        Reservoir<LightSampleRef> r = unpack_reservoir(reservoirs[p]);
+        const std::uint32_t id = static_cast<std::uint32_t>(translate(r.sample.light_id));
+        if (id == removed_light)
+            return {};
+        r.sample.light_id = id;
+        return r;
+    }
+};
+
+static_assert(ReservoirHistory<PackedHistory<>, LightSampleRef>);
+
+} // namespace restir
