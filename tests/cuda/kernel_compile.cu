@@ -207,14 +207,17 @@ __global__ void reuse_kernel(const glm::vec3* light_positions, const GBufferTexe
 using RecipeFrame = restir::DiFrame<restir::LightSampleRef, GBufferTexel, StaticCamera>;
 using RecipeReservoir = restir::Reservoir<restir::LightSampleRef>;
 
-__device__ bool recipe_pixel(const RecipeFrame& frame, restir::PixelCoord& pixel) {
+template <class Frame>
+__device__ bool recipe_pixel(const Frame& frame, restir::PixelCoord& pixel) {
     pixel = {static_cast<std::int32_t>(blockIdx.x * blockDim.x + threadIdx.x),
              static_cast<std::int32_t>(blockIdx.y * blockDim.y + threadIdx.y)};
     return frame.surfaces.contains(pixel);
 }
 
-// Stages 1 and 2: initial candidates (RIS), visibility, temporal reuse.
-__global__ void recipe_initial_temporal_kernel(RecipeFrame frame, const glm::vec3* light_positions,
+// Stages 1 and 2: initial candidates (RIS), visibility, temporal reuse; with the history as a
+// view of reservoirs, or packed with its light ids translated (a light list rebuilt).
+template <class Frame>
+__global__ void recipe_initial_temporal_kernel(Frame frame, const glm::vec3* light_positions,
                                                std::uint32_t light_count,
                                                restir::ImageView<RecipeReservoir> out) {
     restir::PixelCoord pixel;
@@ -242,6 +245,32 @@ __global__ void recipe_spatial_kernel(RecipeFrame frame, const glm::vec3* light_
     restir::Pcg32 rng = restir::make_pixel_rng(frame.surfaces.index_of(pixel), frame.frame_index,
                                                restir::RngStream::spatial + pass);
     out[pixel] = frame.spatial(pixel, pass, in, bridge, rng);
+}
+
+// A light list that moved every light one place down and removed the first.
+struct LightIdShift {
+    __host__ __device__ std::uint32_t operator()(std::uint32_t id) const {
+        return id == 0u ? restir::removed_light : id - 1u;
+    }
+};
+using PackedRecipeFrame = restir::DiFrame<restir::LightSampleRef, GBufferTexel, StaticCamera,
+                                          restir::PackedHistory<LightIdShift>>;
+template __global__ void
+recipe_initial_temporal_kernel<RecipeFrame>(RecipeFrame, const glm::vec3*, std::uint32_t,
+                                            restir::ImageView<RecipeReservoir>);
+template __global__ void recipe_initial_temporal_kernel<PackedRecipeFrame>(
+    PackedRecipeFrame, const glm::vec3*, std::uint32_t, restir::ImageView<RecipeReservoir>);
+
+// Stages 4 and 5 into packed storage: boiling filter, final visibility, packed as the next
+// frame's history.
+__global__ void recipe_finish_packed_kernel(RecipeFrame frame,
+                                            restir::ImageView<const RecipeReservoir> in,
+                                            restir::ImageView<restir::PackedReservoir> history) {
+    restir::PixelCoord pixel;
+    if (!recipe_pixel(frame, pixel))
+        return;
+    history[pixel] =
+        restir::pack_reservoir(frame.finish(pixel, frame.boiling(pixel, in), HeightVisibility{}));
 }
 
 // Stages 4 and 5: boiling filter, final visibility (the next frame's history).
