@@ -76,8 +76,7 @@ TEST(HostileFloats, NeighboursAndDirectionsAreDefined) {
         EXPECT_LE(n.x, 5 + 16777217);
         EXPECT_GE(n.y, 5 - 16777217);
         for (float v : hostile) {
-            const glm::vec3 d =
-                restir::sample_diffuse_direction(glm::vec3(0.0f, 0.0f, 1.0f), u, v);
+            const glm::vec3 d = restir::sample_diffuse_direction(glm::vec3(0.0f, 0.0f, 1.0f), u, v);
             (void)d; // any value: only the absence of undefined behaviour is checked
         }
     }

@@ -6,8 +6,8 @@
 
 #include <restir/core/reservoir.hpp>
 #include <restir/light/irradiance.hpp>
-#include <restir/sampling/light_sampler.hpp>
 #include <restir/sampling/alias_table.hpp>
+#include <restir/sampling/light_sampler.hpp>
 #include <restir/sampling/light_tile_arrays.hpp>
 
 #include "support/chi2.hpp"

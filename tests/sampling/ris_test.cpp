@@ -2,8 +2,8 @@
 // over many independent trials as |mean - truth| < 4 standard errors measured from them.
 #include <restir/sampling/ris.hpp>
 
-#include <restir/sampling/light_sampler.hpp>
 #include <restir/sampling/alias_table.hpp>
+#include <restir/sampling/light_sampler.hpp>
 
 #include "support/discrete_lights.hpp"
 #include "support/statistics.hpp"
