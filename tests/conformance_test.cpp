@@ -161,8 +161,8 @@ TEST(Conformance, ReusePassesInstantiateWithStubTypes) {
     out = restir::spatial_resample({0, 0}, view, surface_view, spatial, offsets, bridge, rng);
     EXPECT_GE(out.candidate_count, 1u);
     out = restir::spatiotemporal_resample({1, 1}, reservoirs[3], surfaces[3], view, surface_view,
-                                          stub::Reprojection{}, temporal, spatial, offsets, bridge,
-                                          rng);
+                                          stub::Reprojection{}, temporal, spatial.search(), offsets,
+                                          bridge, rng);
     EXPECT_GE(out.candidate_count, 2u);
     EXPECT_TRUE(restir::apply_visibility(out, surfaces[0], stub::Visibility{}));
     out = restir::boiling_filter({0, 0}, view, restir::default_boiling_filter_params());

@@ -194,9 +194,9 @@ __global__ void reuse_kernel(const glm::vec3* light_positions, const GBufferTexe
     spatial.reuse.bias_correction = restir::BiasCorrection::balance_heuristic;
     temporal_out[index] = restir::temporal_resample(
         {x, y}, current, texels[index], history, surfaces, StaticCamera{}, temporal, bridge, rng);
-    spatial_out[index] =
-        restir::spatiotemporal_resample({x, y}, current, texels[index], history, surfaces,
-                                        StaticCamera{}, temporal, spatial, offsets, bridge, rng);
+    spatial_out[index] = restir::spatiotemporal_resample({x, y}, current, texels[index], history,
+                                                         surfaces, StaticCamera{}, temporal,
+                                                         spatial.search(), offsets, bridge, rng);
     spatial_out[index] =
         restir::spatial_resample({x, y}, history, surfaces, spatial, offsets, bridge, rng);
     spatial_out[index] =

@@ -118,7 +118,7 @@ private:
                 restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 1u, trial);
                 fused[i] = restir::spatiotemporal_resample(
                     pixel_of(i), current[i], surfaces[i], previous, previous_surfaces, Reproject{},
-                    temporal_, spatial_, offsets_, bridge, rng);
+                    temporal_, spatial_.search(), offsets_, bridge, rng);
             }
             current = fused;
         }

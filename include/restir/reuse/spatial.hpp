@@ -21,6 +21,12 @@
 
 namespace restir {
 
+/// Where a pass looks for neighbours: k offsets in a disk of `radius` pixels.
+struct NeighbourSearch {
+    std::uint32_t neighbour_count = 3u; ///< k, at most max_reuse_inputs - 1.
+    float radius = 30.0f;               ///< In pixels.
+};
+
 /// Settings of one spatial pass.
 struct SpatialParams {
     ReuseParams reuse{};
@@ -30,6 +36,11 @@ struct SpatialParams {
     std::uint32_t neighbour_count = 3u;
     /// Radius of the neighbourhood in pixels (the paper's 30).
     float radius = 30.0f;
+
+    /// The neighbour search alone: what the fused pass takes.
+    RESTIR_HOST_DEVICE constexpr NeighbourSearch search() const noexcept {
+        return {neighbour_count, radius};
+    }
 };
 
 /// The paper's unbiased settings: pairwise MIS, visibility reuse, k = 3 in 30 pixels.

@@ -37,8 +37,8 @@ struct HistoryAndNeighbours {
 };
 
 /// Fused spatiotemporal resampling of one pixel. `temporal` supplies the bias correction,
-/// similarity, history cap and permutation; `spatial` the neighbour count and radius (its
-/// `reuse` and `similarity` are not used). Every previous-frame reservoir is capped at
+/// similarity, history cap and permutation; `search` the neighbour count and radius
+/// (`SpatialParams::search()`). Every previous-frame reservoir is capped at
 /// `temporal.history_cap_multiplier` times the current M. Without a usable history pixel
 /// (disocclusion) the neighbours around the reprojected position are still reused.
 template <class Sample, Surface S, Reprojection Reproject, class Target, class Visibility,
@@ -48,7 +48,7 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
     spatiotemporal_resample(PixelCoord pixel, const Reservoir<Sample>& current, const S& surface,
                             ImageView<const Reservoir<Sample>> previous_reservoirs,
                             ImageView<const S> previous_surfaces, const Reproject& reproject,
-                            const TemporalParams& temporal, const SpatialParams& spatial,
+                            const TemporalParams& temporal, const NeighbourSearch& search,
                             const NeighbourOffsets& offsets,
                             const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng) {
     if (!is_valid_surface(surface))
@@ -60,10 +60,11 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
                        temporal.similarity, bridge.material_test);
     const std::uint32_t history_count = history.reservoir != nullptr ? 1u : 0u;
 
-    SpatialParams neighbourhood = spatial;
+    SpatialParams neighbourhood;
     neighbourhood.similarity = temporal.similarity;
+    neighbourhood.radius = search.radius;
     neighbourhood.neighbour_count =
-        min_of(spatial.neighbour_count, max_reuse_inputs - 1u - history_count);
+        min_of(search.neighbour_count, max_reuse_inputs - 1u - history_count);
     // Built in place: a host set's unused entries are left uninitialised, never copied.
     const HistoryAndNeighbours<Sample, S> inputs{
         history,
