@@ -67,7 +67,10 @@ unpack_reservoir(const PackedReservoir& p) noexcept {
 
 /// Last frame's packed reservoirs as a `ReservoirHistory` for `DiFrame`. `translate` maps a
 /// light id of last frame's light set to this frame's (`removed_light`: the light is gone, the
-/// pixel lends nothing): a renderer that rebuilds its light list keeps its history through it.
+/// pixel lends nothing): a renderer that renumbers its lights or removes some keeps its history
+/// through it. Lights added since last frame are not covered: the history could not have drawn
+/// them, but its MIS weight assumes it could (they would come out too dark), so treat additions
+/// as a light change (an empty history).
 /// Trivially copyable when `Translate` is.
 template <class Translate = SameLightIds>
 struct PackedHistory {
