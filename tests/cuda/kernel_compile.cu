@@ -261,6 +261,19 @@ recipe_initial_temporal_kernel<RecipeFrame>(RecipeFrame, const glm::vec3*, std::
 template __global__ void recipe_initial_temporal_kernel<PackedRecipeFrame>(
     PackedRecipeFrame, const glm::vec3*, std::uint32_t, restir::ImageView<RecipeReservoir>);
 
+// A packed history that also decodes last frame's surfaces (here: reads them from an array;
+// a renderer would decode its own G-buffer), so the frame has no previous-surface view.
+struct DecodingPackedHistory : restir::PackedHistory<> {
+    const GBufferTexel* previous_texels = nullptr;
+    __host__ __device__ GBufferTexel surface(restir::PixelCoord p) const {
+        return previous_texels[reservoirs.index_of(p)];
+    }
+};
+using DecodingRecipeFrame =
+    restir::DiFrame<restir::LightSampleRef, GBufferTexel, StaticCamera, DecodingPackedHistory>;
+template __global__ void recipe_initial_temporal_kernel<DecodingRecipeFrame>(
+    DecodingRecipeFrame, const glm::vec3*, std::uint32_t, restir::ImageView<RecipeReservoir>);
+
 // Stages 4 and 5 into packed storage: boiling filter, final visibility, packed as the next
 // frame's history.
 __global__ void recipe_finish_packed_kernel(RecipeFrame frame,

@@ -63,6 +63,13 @@ struct LoadingHistory {
 };
 static_assert(restir::ReservoirHistory<LoadingHistory, LightId>);
 
+// A history that also decodes last frame's surfaces (the frame gets no previous G-buffer).
+struct SurfaceDecodingHistory : LoadingHistory {
+    const Patch* previous_surfaces = nullptr;
+    Patch surface(PixelCoord p) const { return previous_surfaces[p.x + p.y * width]; }
+};
+static_assert(restir::HistorySurfaces<SurfaceDecodingHistory, Patch>);
+
 // An application's frames through `run_di_frame`: keeps the G-buffers and the history.
 template <class History = restir::ImageView<const Reservoir<LightId>>>
 class RecipeRendererOf {
@@ -80,8 +87,12 @@ public:
         Frame f{
             .params = params_, .frame_index = frame, .surfaces = {surfaces_.data(), width, height}};
         if (frame > 0 && !cut) {
-            f.previous_surfaces = {previous_surfaces_.data(), width, height};
-            f.history = {history_.data(), width, height};
+            if constexpr (std::is_same_v<History, SurfaceDecodingHistory>) {
+                f.history = {{history_.data(), width, height}, previous_surfaces_.data()};
+            } else {
+                f.previous_surfaces = {previous_surfaces_.data(), width, height};
+                f.history = {history_.data(), width, height};
+            }
         }
         const auto for_each_pixel = [](const auto& body) {
             for (std::uint32_t i = 0; i < pixel_count; ++i)
@@ -252,10 +263,13 @@ TEST(DiFrame, LoadedHistoryEqualsTheViewedOne) {
     for (const Variant& variant : variants()) {
         RecipeRenderer viewed(variant.params);
         RecipeRendererOf<LoadingHistory> loaded(variant.params);
+        RecipeRendererOf<SurfaceDecodingHistory> decoded(variant.params);
         for (std::uint32_t frame = 0; frame < 6; ++frame) {
             const bool cut = frame == 3;
-            expect_same(loaded.render(frame, cut), viewed.render(frame, cut),
-                        variant.name + ", frame " + std::to_string(frame));
+            const Image& expected = viewed.render(frame, cut);
+            const std::string name = variant.name + ", frame " + std::to_string(frame);
+            expect_same(loaded.render(frame, cut), expected, name);
+            expect_same(decoded.render(frame, cut), expected, name + ", surfaces decoded");
         }
     }
 }

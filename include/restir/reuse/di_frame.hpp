@@ -84,22 +84,34 @@ struct DiFrame {
     /// Last frame's G-buffer, and the reservoirs that last frame's `finish` stage returned.
     /// Leave `history` empty (`{}`) when it does not apply: in frame 0, after a camera cut,
     /// and after the light set changed (its samples would belong to another integrand).
+    /// `previous_surfaces` may stay empty when the history decodes them (`HistorySurfaces`).
     ImageView<const S> previous_surfaces{};
     History history{};
     Reproject reproject{};
     NeighbourOffsets offsets = make_neighbour_offsets();
 
+    /// Whether the history is loaded by value (a `ReservoirHistory`) rather than viewed.
+    static constexpr bool loads_history =
+        !std::same_as<History, ImageView<const Reservoir<Sample>>>;
+
+    /// Whether the history decodes last frame's surfaces itself (`HistorySurfaces`): then
+    /// `previous_surfaces` may stay empty.
+    static constexpr bool history_has_surfaces = HistorySurfaces<History, S>;
+    /// What `temporal_input` returns for a loaded history.
+    using LoadedInput = LoadedHistoryInput<Sample, S, history_has_surfaces>;
+
     /// Whether `history` is empty (frame 0, a camera cut, a new light set).
     RESTIR_HOST_DEVICE constexpr bool history_is_empty() const noexcept {
-        if constexpr (requires { history.data; })
-            return history.data == nullptr;
-        else
+        if constexpr (loads_history)
             return history.empty();
+        else
+            return history.data == nullptr;
     }
 
     /// Whether stage 2 reuses anything this frame.
     RESTIR_HOST_DEVICE constexpr bool has_history() const noexcept {
-        return params.temporal_reuse && !history_is_empty() && previous_surfaces.data != nullptr;
+        return params.temporal_reuse && !history_is_empty() &&
+               (history_has_surfaces || previous_surfaces.data != nullptr);
     }
 
     /// The temporal pass's settings as the recipe runs it. Under visibility reuse every
@@ -167,10 +179,6 @@ struct DiFrame {
                                 rng);
     }
 
-    /// Whether the history is loaded by value (a `ReservoirHistory`) rather than viewed.
-    static constexpr bool loads_history =
-        !std::same_as<History, ImageView<const Reservoir<Sample>>>;
-
     /// The first half of `temporal`: the history input that stage 2 of `pixel` reuses, for
     /// renderers that trace its MIS ray ahead of `temporal_combine`. A `ReuseInput` pointing
     /// into the history view (null pointers when none), or for a `ReservoirHistory` a
@@ -179,8 +187,21 @@ struct DiFrame {
     RESTIR_HOST_DEVICE auto temporal_input(PixelCoord pixel,
                                            const MaterialTest& material_test = {}) const {
         const TemporalParams t = temporal_params();
-        if constexpr (loads_history) {
-            LoadedHistoryInput<Sample, S> input{};
+        if constexpr (history_has_surfaces) {
+            LoadedInput input{};
+            if (!has_history() || !is_valid_surface(surfaces[pixel]))
+                return input;
+            const PixelCoord p = history_pixel(reproject(pixel), t);
+            if (!history.contains(p))
+                return input;
+            input.reservoir = history.load(p);
+            input.surface = history.surface(p);
+            input.lends =
+                input.reservoir.is_well_formed() &&
+                surfaces_similar(surfaces[pixel], input.surface, t.similarity, material_test);
+            return input;
+        } else if constexpr (loads_history) {
+            LoadedInput input{};
             if (!has_history() || !is_valid_surface(surfaces[pixel]))
                 return input;
             const PixelCoord p = history_pixel(reproject(pixel), t);
@@ -205,14 +226,9 @@ struct DiFrame {
     requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
         RESTIR_HOST_DEVICE Reservoir<Sample>
         temporal_combine(PixelCoord pixel, const Reservoir<Sample>& current,
-                         const LoadedHistoryInput<Sample, S>& input,
+                         const LoadedInput& input,
                          const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng)
-    const {
-        const ReuseInput<Sample, S> view =
-            input.surface != nullptr ? ReuseInput<Sample, S>{&input.reservoir, input.surface}
-                                     : ReuseInput<Sample, S>{};
-        return temporal_combine(pixel, current, view, bridge, rng);
-    }
+    const { return temporal_combine(pixel, current, input.lending(), bridge, rng); }
 
     /// The second half of `temporal`: combines `current` with the `input` that
     /// `temporal_input` found.

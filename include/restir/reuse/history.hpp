@@ -8,6 +8,7 @@
 #include "restir/config.hpp"
 #include "restir/core/reservoir.hpp"
 #include "restir/reuse/image_view.hpp"
+#include "restir/reuse/reuse_input.hpp"
 
 #include <concepts>
 #include <cstdint>
@@ -19,6 +20,9 @@ namespace restir {
 ///   `h.contains(p)` -> bool, whether `p` lies in last frame's image;
 ///   `h.load(p)`    -> Reservoir<Sample>, the reservoir of `p` (inside the image), by value;
 ///                     an empty reservoir when its sample no longer exists.
+/// Optional: `h.surface(p)` -> the previous frame's surface at `p`, decoded by the application
+/// from its own G-buffer (`HistorySurfaces`); then the frame needs no array of last frame's
+/// surfaces.
 template <class H, class Sample>
 concept ReservoirHistory = requires(const H& h, PixelCoord p) {
     { h.empty() } -> std::convertible_to<bool>;
@@ -26,13 +30,35 @@ concept ReservoirHistory = requires(const H& h, PixelCoord p) {
     { h.load(p) } -> std::convertible_to<Reservoir<Sample>>;
 };
 
-/// A history reservoir loaded by value, with the previous-frame surface it belongs to (null
-/// when the pixel has nothing to lend). What `DiFrame::temporal_input` returns for a
-/// `ReservoirHistory`.
-template <class Sample, class SurfaceT>
+/// A history that also gives last frame's surfaces: `h.surface(p)` -> S.
+template <class H, class SurfaceT>
+concept HistorySurfaces = requires(const H& h, PixelCoord p) {
+    { h.surface(p) } -> std::convertible_to<SurfaceT>;
+};
+
+/// A history reservoir loaded by value, with the previous-frame surface it belongs to: a
+/// pointer into the previous G-buffer, or, when the history decodes surfaces itself
+/// (`OwnsSurface`), a copy. What `DiFrame::temporal_input` returns for a `ReservoirHistory`.
+template <class Sample, class SurfaceT, bool OwnsSurface = false>
 struct LoadedHistoryInput {
     Reservoir<Sample> reservoir{};
-    const SurfaceT* surface = nullptr;
+    const SurfaceT* surface = nullptr; ///< Null when the pixel lends nothing.
+    /// The input as reuse visits it (null pointers when it lends nothing).
+    RESTIR_HOST_DEVICE constexpr ReuseInput<Sample, SurfaceT> lending() const noexcept {
+        return surface != nullptr ? ReuseInput<Sample, SurfaceT>{&reservoir, surface}
+                                  : ReuseInput<Sample, SurfaceT>{};
+    }
+};
+
+template <class Sample, class SurfaceT>
+struct LoadedHistoryInput<Sample, SurfaceT, true> {
+    Reservoir<Sample> reservoir{};
+    SurfaceT surface{};
+    bool lends = false;
+    RESTIR_HOST_DEVICE constexpr ReuseInput<Sample, SurfaceT> lending() const noexcept {
+        return lends ? ReuseInput<Sample, SurfaceT>{&reservoir, &surface}
+                     : ReuseInput<Sample, SurfaceT>{};
+    }
 };
 
 /// The light-id translation of a history whose light set did not change: every id stays.
