@@ -66,7 +66,7 @@ static_assert(restir::ReservoirHistory<LoadingHistory, LightId>);
 // A history that also decodes last frame's surfaces (the frame gets no previous G-buffer).
 struct SurfaceDecodingHistory : LoadingHistory {
     const Patch* previous_surfaces = nullptr;
-    Patch surface(PixelCoord p) const { return previous_surfaces[p.x + p.y * width]; }
+    Patch surface(PixelCoord p) const { return previous_surfaces[view().index_of(p)]; }
 };
 static_assert(restir::HistorySurfaces<SurfaceDecodingHistory, Patch>);
 
