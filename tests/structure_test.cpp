@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -94,11 +95,20 @@ std::string find_cycle(const Graph& graph) {
 std::string code_only(const std::string& text) {
     std::string out = text;
     for (std::size_t i = 0; i < out.size(); ++i) {
+        // Blanks [i, end) (to the end of the text when `end` is npos); i ends on the last
+        // blanked character, so the loop goes on after it.
         auto blank_until = [&](std::size_t end) {
-            for (; i < end && i < out.size(); ++i)
+            const std::size_t first = i;
+            for (; i < std::min(end, out.size()); ++i)
                 if (out[i] != '\n')
                     out[i] = ' ';
-            --i;
+            i = std::max(i, first + 1) - 1;
+        };
+        // Past the closing `token` found after the `opening` characters at i, or npos when the
+        // text ends first.
+        auto past = [&](const char* token, std::size_t opening) {
+            const std::size_t at = out.find(token, i + opening);
+            return at == std::string::npos ? at : at + std::char_traits<char>::length(token);
         };
         const std::size_t line_start = out.rfind('\n', i) + 1; // 0 on the first line
         const bool line_begins_here = out.find_first_not_of(" \t", line_start) == i;
@@ -107,10 +117,12 @@ std::string code_only(const std::string& text) {
         } else if (out.compare(i, 2, "//") == 0) {
             blank_until(out.find('\n', i));
         } else if (out.compare(i, 2, "/*") == 0) {
-            blank_until(out.find("*/", i) + 2);
+            blank_until(past("*/", 2));
         } else if (out.compare(i, 3, "R\"(") == 0) {
-            blank_until(out.find(")\"", i) + 2);
-        } else if (out[i] == '"' || (out[i] == '\'' && (i == 0 || !std::isalnum(out[i - 1])))) {
+            blank_until(past(")\"", 3));
+        } else if (out[i] == '"' ||
+                   (out[i] == '\'' &&
+                    (i == 0 || !std::isalnum(static_cast<unsigned char>(out[i - 1]))))) {
             const char quote = out[i];
             std::size_t end = i + 1;
             while (end < out.size() && out[end] != quote && out[end] != '\n')
@@ -202,6 +214,9 @@ TEST(Structure, MeasuresFunctionLengths) {
     EXPECT_EQ(found[0].first_line, 3);
     EXPECT_EQ(found[0].lines, 5);
     EXPECT_TRUE(long_functions(source, 5).empty());
+    // Unterminated comments and literals end at the end of the text.
+    EXPECT_TRUE(long_functions("int f() {\n/* never closed", 1).empty());
+    EXPECT_TRUE(long_functions("const char* s = R\"(never closed", 1).empty());
 }
 
 TEST(Structure, ExampleFunctionsAreShort) {
