@@ -164,6 +164,10 @@ void add_light_sampling_options(CLI::App& app, RenderSettings& settings) {
     app.add_option("--permutation-sampling", frame.temporal.permutation_sampling,
                    "Temporal reuse reads the history of a pixel permuted per frame in 2x2 "
                    "blocks (true/false)");
+    app.add_option("--packed-history", settings.packed_history,
+                   "Keep the temporal history packed, 28 bytes a pixel instead of 64, its light "
+                   "points decoded from the light set when read: the same image, less memory, a "
+                   "light lookup per pixel (true/false)");
     app.add_option("--boiling-filter", frame.boiling.threshold,
                    "Boiling filter after spatial reuse: empty reservoirs whose contribution "
                    "exceeds this multiple of their 9x9 neighbourhood's (0: off; biased)")

@@ -104,6 +104,10 @@ struct Renderer::Impl {
 
     std::vector<GSurface> surfaces, previous_surfaces;
     ReservoirBuffer reservoirs, previous_reservoirs, scratch;
+    // With --packed-history, the final reservoirs in storage form instead of
+    // `previous_reservoirs`: next frame's history in 28 bytes a pixel instead of 64, its light
+    // points decoded from the light set (`LightPointDecoder`).
+    std::vector<restir::PackedPointReservoir> stored_history;
 
     // The frames: the last one alone, their sum and their average.
     Image frame_image, accumulated;
@@ -128,7 +132,10 @@ struct Renderer::Impl {
         previous_surfaces.resize(pixels);
         if (settings.method == Method::restir) {
             reservoirs.resize(pixels);
-            previous_reservoirs.resize(pixels);
+            if (settings.packed_history)
+                stored_history.resize(pixels);
+            else
+                previous_reservoirs.resize(pixels);
             scratch.resize(pixels);
         }
     }
@@ -572,7 +579,24 @@ struct Renderer::Impl {
                     static_cast<std::int32_t>(std::floor(q.y))};
         }
     };
+    // A stored light point back as the sample it was made from: every light of the renderer
+    // (flat emitter triangles of one radiance, sampled by area; VPLs) has one normal, radiance
+    // and pdf over its whole surface, so its id and the position determine the sample.
+    struct LightPointDecoder {
+        const Impl* im = nullptr;
+        restir::LightPointSample operator()(std::uint32_t id, glm::vec3 position) const {
+            if (id >= im->lights.light_count())
+                return {.light_id = restir::removed_light};
+            restir::LightPointSample s = restir::make_light_point_sample(
+                id, im->lights.sample_point(id, glm::vec2(0.0f)), im->falloff);
+            s.position = position;
+            return s;
+        }
+    };
+    // The recipe with last frame's reservoirs viewed, or stored packed (--packed-history).
     using DiFrame = restir::DiFrame<restir::LightPointSample, GSurface, CameraReprojection>;
+    using PackedDiFrame = restir::DiFrame<restir::LightPointSample, GSurface, CameraReprojection,
+                                          restir::PackedPointHistory<LightPointDecoder>>;
 
     // The settings' recipe, a spatial radius of 0 made 30 px per 1080 rows (at least 3).
     restir::DiFrameParams di_frame_params() const {
@@ -585,16 +609,20 @@ struct Renderer::Impl {
     }
     // This frame's recipe; `history` false after a new VPL set (last frame's samples belong to
     // another integrand) and in frame 0.
-    DiFrame di_frame(std::uint32_t frame, bool history) const {
+    template <class Frame>
+    Frame di_frame(std::uint32_t frame, bool history) const {
         const std::uint32_t w = settings.width, h = settings.height;
-        DiFrame f{.params = di_frame_params(),
-                  .frame_index = frame,
-                  .surfaces = {surfaces.data(), w, h},
-                  .reproject = {this},
-                  .offsets = offsets};
+        Frame f{.params = di_frame_params(),
+                .frame_index = frame,
+                .surfaces = {surfaces.data(), w, h},
+                .reproject = {this},
+                .offsets = offsets};
         if (history && frame > 0) {
             f.previous_surfaces = {previous_surfaces.data(), w, h};
-            f.history = {previous_reservoirs.data(), w, h};
+            if constexpr (Frame::loads_history)
+                f.history = {{stored_history.data(), w, h}, {this}};
+            else
+                f.history = {previous_reservoirs.data(), w, h};
         }
         return f;
     }
@@ -611,7 +639,8 @@ struct Renderer::Impl {
     }
 
     // Stage 1: initial candidates into `reservoirs`, tested for visibility.
-    void di_initial(const DiFrame& f) {
+    template <class Frame>
+    void di_initial(const Frame& f) {
         const auto reservoir_at = [this](std::uint32_t i) -> Reservoir& { return reservoirs[i]; };
         for_each_block_by_tile(f.frame_index, [&](const PixelBlock& block) {
             for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
@@ -632,15 +661,14 @@ struct Renderer::Impl {
     // Stage 2: temporal reuse from `reservoirs` into `scratch`, then swapped; the MIS ray
     // towards the history's surface traced ahead, and the results that a spatial pass reads
     // retested (a pixel that kept its own sample needs no ray).
-    void di_temporal(const DiFrame& f) {
+    template <class Frame>
+    void di_temporal(const Frame& f) {
         const auto reservoir_at = [this](std::uint32_t i) -> Reservoir& { return reservoirs[i]; };
         const auto scratch_at = [this](std::uint32_t i) -> Reservoir& { return scratch[i]; };
         const bool mis_rays = f.mis_weights_trace_rays();
         for_each_block([&](const PixelBlock& block) {
             // Each pixel's history looked up once: its MIS ray is traced ahead, then combined.
-            std::array<restir::ReuseInput<restir::LightPointSample, GSurface>,
-                       pixel_block * pixel_block>
-                inputs;
+            std::array<decltype(f.temporal_input({})), pixel_block * pixel_block> inputs;
             std::uint32_t k = 0;
             for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t) {
                 inputs[k++] = f.temporal_input(coord(x, y));
@@ -674,7 +702,8 @@ struct Renderer::Impl {
     // the MIS rays of the whole block go out as packets in between (the neighbours found, the
     // rays from each pixel's own sample towards them traced, then the reservoirs combined with a
     // bridge that answers those rays and targets from the cache).
-    void di_spatial(const DiFrame& f, std::uint32_t pass) {
+    template <class Frame>
+    void di_spatial(const Frame& f, std::uint32_t pass) {
         const auto reservoir_at = [this](std::uint32_t i) -> Reservoir& { return reservoirs[i]; };
         const auto scratch_at = [this](std::uint32_t i) -> Reservoir& { return scratch[i]; };
         const restir::ImageView<const Reservoir> input = view_of(reservoirs);
@@ -724,7 +753,8 @@ struct Renderer::Impl {
 
     // Stage 4: the boiling filter (empties reservoirs far brighter than their neighbourhood;
     // they stay empty in the history too).
-    void di_boiling(const DiFrame& f) {
+    template <class Frame>
+    void di_boiling(const Frame& f) {
         const restir::ImageView<const Reservoir> input = view_of(reservoirs);
         for_each_block([&](const PixelBlock& block) {
             for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
@@ -735,8 +765,9 @@ struct Renderer::Impl {
     }
 
     // Stage 5 and shading: the final visibility ray, which with visibility reuse zeroes W of an
-    // occluded sample before the reservoir becomes next frame's history.
-    void di_finish_and_shade(const DiFrame& f, Image& image) {
+    // occluded sample before the reservoir is stored as next frame's history.
+    template <class Frame>
+    void di_finish_and_shade(const Frame& f, Image& image) {
         const auto reservoir_at = [this](std::uint32_t i) -> Reservoir& { return reservoirs[i]; };
         for_each_block([&](const PixelBlock& block) {
             test_visibility(block, reservoir_at, [&](std::uint32_t i) {
@@ -757,6 +788,8 @@ struct Renderer::Impl {
                     }
                 }
                 image.pixels[i] = color;
+                if constexpr (Frame::loads_history)
+                    stored_history[i] = restir::pack_reservoir(reservoirs[i]);
             });
         });
     }
@@ -770,10 +803,17 @@ struct Renderer::Impl {
         start = Clock::now();
         fill_tiles(frame);
         t.tiles = milliseconds_since(start);
-
-        std::swap(reservoirs, previous_reservoirs); // last frame's result becomes the history
-        const DiFrame f = di_frame(frame, history);
-        start = Clock::now();
+        if (settings.packed_history) {
+            di_stages(di_frame<PackedDiFrame>(frame, history), image, t);
+        } else {
+            std::swap(reservoirs, previous_reservoirs); // last frame's result: the history
+            di_stages(di_frame<DiFrame>(frame, history), image, t);
+        }
+    }
+    // The recipe's stages, timed by phase.
+    template <class Frame>
+    void di_stages(const Frame& f, Image& image, FrameTimings& t) {
+        auto start = Clock::now();
         di_initial(f);
         t.candidates = milliseconds_since(start);
         start = Clock::now();

@@ -46,6 +46,10 @@ struct RenderSettings {
                                ///< that error measurements see lighting noise only).
     /// RIS candidates per pixel (ris, restir).
     std::uint32_t candidates = 32;
+    /// Keep the temporal history packed (restir::PackedPointReservoir: 28 bytes a pixel
+    /// instead of 64), its light points decoded from the light set when read: the same image,
+    /// with less memory and a light lookup per pixel.
+    bool packed_history = false;
     /// The ReSTIR frame (restir::DiFrame), as restir-render's defaults have it; the boiling
     /// filter runs when `di_frame.boiling_filter` is set (restir-render: --boiling-filter > 0).
     restir::DiFrameParams di_frame = default_di_frame_settings();

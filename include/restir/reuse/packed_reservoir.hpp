@@ -1,14 +1,18 @@
 /// @file reuse/packed_reservoir.hpp
-/// The storage form of a `Reservoir<LightSampleRef>`, 20 bytes instead of 28, and a history of
-/// them with an optional light-id translation for temporal reuse.
+/// Storage forms of reservoirs for the history that temporal reuse reads: a
+/// `Reservoir<LightSampleRef>` in 20 bytes instead of 28, a `Reservoir<LightPointSample>` in 28
+/// instead of 64, and histories of them with a light-id translation (or a light decoder).
 #pragma once
 
 #include "restir/config.hpp"
 #include "restir/core/math.hpp"
 #include "restir/core/reservoir.hpp"
+#include "restir/light/light_point_sample.hpp"
 #include "restir/light/light_sample.hpp"
 #include "restir/reuse/history.hpp"
 #include "restir/reuse/image_view.hpp"
+
+#include <glm/vec3.hpp>
 
 #include <cstdint>
 #include <type_traits>
@@ -33,6 +37,22 @@ static_assert(sizeof(PackedReservoir) == 20u);
 /// The largest M a packed reservoir holds.
 inline constexpr std::uint32_t packed_max_candidate_count = 0xffffu;
 
+namespace detail {
+// M, W and p-hat of a stored reservoir; the weight sum, which reuse does not read, set to
+// M p-hat W (what `finalize` divides), so that `has_sample` answers as before packing.
+template <class Sample>
+RESTIR_HOST_DEVICE constexpr void set_stored_weights(Reservoir<Sample>& r, std::uint32_t m,
+                                                     float contribution_weight,
+                                                     float target_value) noexcept {
+    r.candidate_count = m;
+    r.contribution_weight = contribution_weight;
+    r.target_value = target_value;
+    const float sum = static_cast<float>(m) * target_value * contribution_weight;
+    r.weight_sum = sum < 3.0e38f ? sum : 3.0e38f; // finite even where the product overflows
+    r.sanitize();
+}
+} // namespace detail
+
 /// `r` in storage form; a reservoir with a NaN, infinite or negative field is stored empty
 /// (as `Reservoir::sanitize` leaves it).
 RESTIR_HOST_DEVICE constexpr PackedReservoir
@@ -46,8 +66,8 @@ pack_reservoir(const Reservoir<LightSampleRef>& r) noexcept {
             r.target_value};
 }
 
-/// The working reservoir of a stored one. The weight sum, which reuse does not read, is set to
-/// M p-hat W (what `finalize` divides), so that `has_sample` answers as before packing.
+/// The working reservoir of a stored one (its weight sum set to M p-hat W, which reuse does not
+/// read).
 RESTIR_HOST_DEVICE constexpr Reservoir<LightSampleRef>
 unpack_reservoir(const PackedReservoir& p) noexcept {
     Reservoir<LightSampleRef> r;
@@ -55,13 +75,7 @@ unpack_reservoir(const PackedReservoir& p) noexcept {
     const std::uint32_t v = (p.u_and_v_low >> 24u) | ((p.v_high_and_m & 0xffffu) << 8u);
     r.sample.light_id = p.light_id;
     r.sample.uv = {static_cast<float>(u) * 0x1p-24f, static_cast<float>(v) * 0x1p-24f};
-    r.candidate_count = p.v_high_and_m >> 16u;
-    r.contribution_weight = p.contribution_weight;
-    r.target_value = p.target_value;
-    const float sum =
-        static_cast<float>(r.candidate_count) * r.target_value * r.contribution_weight;
-    r.weight_sum = sum < 3.0e38f ? sum : 3.0e38f; // finite even where the product overflows
-    r.sanitize();
+    detail::set_stored_weights(r, p.v_high_and_m >> 16u, p.contribution_weight, p.target_value);
     return r;
 }
 
@@ -92,5 +106,69 @@ struct PackedHistory {
 };
 
 static_assert(ReservoirHistory<PackedHistory<>, LightSampleRef>);
+
+/// A stored `Reservoir<LightPointSample>`: the light, the point's position, W, p-hat at its own
+/// surface and M, exactly; the rest of the sample (the light's normal, intensity and falloff) is
+/// decoded from the light id when the history is read (`PackedPointHistory`).
+struct PackedPointReservoir {
+    std::uint32_t light_id = 0u;
+    glm::vec3 position{0.0f};
+    float contribution_weight = 0.0f; ///< W.
+    float target_value = 0.0f;        ///< p-hat(y) at the surface that owns the reservoir.
+    std::uint32_t candidate_count = 0u;
+};
+
+static_assert(std::is_trivially_copyable_v<PackedPointReservoir>);
+static_assert(sizeof(PackedPointReservoir) == 28u);
+
+/// `r` in storage form; a reservoir with a NaN, infinite or negative field is stored empty.
+RESTIR_HOST_DEVICE constexpr PackedPointReservoir
+pack_reservoir(const Reservoir<LightPointSample>& r) noexcept {
+    if (!r.is_well_formed())
+        return {};
+    return {r.sample.light_id, r.sample.position, r.contribution_weight, r.target_value,
+            r.candidate_count};
+}
+
+/// A decoder of stored light points: `decode(light_id, position)` -> the `LightPointSample` of
+/// that light at that point, with `light_id` `removed_light` when the light no longer exists.
+/// Exact for lights whose normal, radiance and pdf are the same over the whole light (flat
+/// triangles of one radiance, sampled uniformly by area; point lights and VPLs): then the
+/// light id and the position determine the sample.
+template <class D>
+concept LightPointDecoder = requires(const D& decode, std::uint32_t id, glm::vec3 position) {
+    { decode(id, position) } -> std::convertible_to<LightPointSample>;
+};
+
+/// The working reservoir of a stored one, its sample decoded by `decode` (only where it holds
+/// one: a reservoir without a sample keeps its M and is not decoded); empty when the light is
+/// gone.
+template <LightPointDecoder Decode>
+RESTIR_HOST_DEVICE constexpr Reservoir<LightPointSample>
+unpack_reservoir(const PackedPointReservoir& p, const Decode& decode) {
+    Reservoir<LightPointSample> r;
+    detail::set_stored_weights(r, p.candidate_count, p.contribution_weight, p.target_value);
+    if (!r.has_sample())
+        return r;
+    r.sample = decode(p.light_id, p.position);
+    return r.sample.light_id == removed_light ? Reservoir<LightPointSample>{} : r;
+}
+
+/// Last frame's packed light-point reservoirs as a `ReservoirHistory` for `DiFrame`, decoded by
+/// `decode` against this frame's light set (see `LightPointDecoder`; the same caveat about
+/// added lights as `PackedHistory`). Trivially copyable when `Decode` is.
+template <LightPointDecoder Decode>
+struct PackedPointHistory {
+    ImageView<const PackedPointReservoir> reservoirs{};
+    Decode decode{};
+
+    RESTIR_HOST_DEVICE constexpr bool empty() const noexcept { return reservoirs.data == nullptr; }
+    RESTIR_HOST_DEVICE constexpr bool contains(PixelCoord p) const noexcept {
+        return reservoirs.contains(p);
+    }
+    RESTIR_HOST_DEVICE constexpr Reservoir<LightPointSample> load(PixelCoord p) const {
+        return unpack_reservoir(reservoirs[p], decode);
+    }
+};
 
 } // namespace restir
