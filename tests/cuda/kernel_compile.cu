@@ -223,11 +223,12 @@ __global__ void recipe_initial_temporal_kernel(Frame frame, const glm::vec3* lig
     restir::PixelCoord pixel;
     if (!recipe_pixel(frame, pixel))
         return;
-    const std::uint32_t index = frame.surfaces.index_of(pixel);
+    const std::uint32_t index = out.index_of(pixel);
     const restir::ReuseBridge bridge{SurfaceTarget{light_positions}, HeightVisibility{}};
     restir::Pcg32 rng =
         restir::make_pixel_rng(index, frame.frame_index, restir::RngStream::initial);
-    const DistanceTarget target{light_positions, surface_position(frame.surfaces[pixel])};
+    const DistanceTarget target{light_positions,
+                                surface_position(restir::surface_at(frame.surfaces, pixel))};
     RecipeReservoir r = frame.initial(
         pixel, restir::resample_ris(rng, 32u, UniformDraw{light_count}, target), bridge.visibility);
     rng = restir::make_pixel_rng(index, frame.frame_index, restir::RngStream::temporal);
@@ -235,17 +236,22 @@ __global__ void recipe_initial_temporal_kernel(Frame frame, const glm::vec3* lig
 }
 
 // Stage 3: one spatial pass.
-__global__ void recipe_spatial_kernel(RecipeFrame frame, const glm::vec3* light_positions,
+template <class Frame>
+__global__ void recipe_spatial_kernel(Frame frame, const glm::vec3* light_positions,
                                       restir::ImageView<const RecipeReservoir> in,
                                       restir::ImageView<RecipeReservoir> out, std::uint32_t pass) {
     restir::PixelCoord pixel;
     if (!recipe_pixel(frame, pixel))
         return;
     const restir::ReuseBridge bridge{SurfaceTarget{light_positions}, HeightVisibility{}};
-    restir::Pcg32 rng = restir::make_pixel_rng(frame.surfaces.index_of(pixel), frame.frame_index,
+    restir::Pcg32 rng = restir::make_pixel_rng(out.index_of(pixel), frame.frame_index,
                                                restir::RngStream::spatial + pass);
     out[pixel] = frame.spatial(pixel, pass, in, bridge, rng);
 }
+template __global__ void
+recipe_spatial_kernel<RecipeFrame>(RecipeFrame, const glm::vec3*,
+                                   restir::ImageView<const RecipeReservoir>,
+                                   restir::ImageView<RecipeReservoir>, std::uint32_t);
 
 // A light list that moved every light one place down and removed the first.
 struct LightIdShift {
@@ -273,6 +279,40 @@ using DecodingRecipeFrame =
     restir::DiFrame<restir::LightSampleRef, GBufferTexel, StaticCamera, DecodingPackedHistory>;
 template __global__ void recipe_initial_temporal_kernel<DecodingRecipeFrame>(
     DecodingRecipeFrame, const glm::vec3*, std::uint32_t, restir::ImageView<RecipeReservoir>);
+
+// This frame's surfaces decoded from a compact G-buffer (depth and an octahedral normal in 16
+// bits per coordinate, the position from the pixel and the depth), so that the frame keeps no
+// array of surfaces of either frame.
+struct CompactGBuffer {
+    const float* depths = nullptr;
+    const std::uint32_t* octahedral_normals = nullptr;
+    std::uint32_t width = 0u, height = 0u;
+    __host__ __device__ bool contains(restir::PixelCoord p) const {
+        return restir::ImageView<const float>{depths, width, height}.contains(p);
+    }
+    __host__ __device__ GBufferTexel surface(restir::PixelCoord p) const {
+        const std::uint32_t i =
+            static_cast<std::uint32_t>(p.x) + static_cast<std::uint32_t>(p.y) * width;
+        const std::uint32_t bits = octahedral_normals[i];
+        const float u = static_cast<float>(bits & 0xffffu) * (2.0f / 65535.0f) - 1.0f;
+        const float v = static_cast<float>(bits >> 16u) * (2.0f / 65535.0f) - 1.0f;
+        glm::vec3 n(u, v, 1.0f - fabsf(u) - fabsf(v));
+        if (n.z < 0.0f)
+            n = glm::vec3(copysignf(1.0f - fabsf(v), u), copysignf(1.0f - fabsf(u), v), n.z);
+        const float depth = depths[i];
+        return {glm::vec3(static_cast<float>(p.x), static_cast<float>(p.y), depth),
+                glm::normalize(n), depth};
+    }
+};
+static_assert(restir::SurfaceDecoder<CompactGBuffer, GBufferTexel>);
+using ArrayFreeRecipeFrame = restir::DiFrame<restir::LightSampleRef, GBufferTexel, StaticCamera,
+                                             DecodingPackedHistory, CompactGBuffer>;
+template __global__ void recipe_initial_temporal_kernel<ArrayFreeRecipeFrame>(
+    ArrayFreeRecipeFrame, const glm::vec3*, std::uint32_t, restir::ImageView<RecipeReservoir>);
+template __global__ void
+recipe_spatial_kernel<ArrayFreeRecipeFrame>(ArrayFreeRecipeFrame, const glm::vec3*,
+                                            restir::ImageView<const RecipeReservoir>,
+                                            restir::ImageView<RecipeReservoir>, std::uint32_t);
 
 // Stages 4 and 5 into packed storage: boiling filter, final visibility, packed as the next
 // frame's history.

@@ -70,11 +70,22 @@ struct SurfaceDecodingHistory : LoadingHistory {
 };
 static_assert(restir::HistorySurfaces<SurfaceDecodingHistory, Patch>);
 
+// This frame's surfaces decoded on demand (a `SurfaceDecoder`: the frame holds no view of them).
+struct DecodingSurfaces {
+    const Patch* data = nullptr;
+    std::uint32_t width = 0u, height = 0u;
+    bool contains(PixelCoord p) const { return view().contains(p); }
+    Patch surface(PixelCoord p) const { return data[view().index_of(p)]; }
+    restir::ImageView<const Patch> view() const { return {data, width, height}; }
+};
+static_assert(restir::SurfaceDecoder<DecodingSurfaces, Patch>);
+
 // An application's frames through `run_di_frame`: keeps the G-buffers and the history.
-template <class History = restir::ImageView<const Reservoir<LightId>>>
+template <class History = restir::ImageView<const Reservoir<LightId>>,
+          class Surfaces = restir::ImageView<const Patch>>
 class RecipeRendererOf {
 public:
-    using Frame = restir::DiFrame<LightId, Patch, Reproject, History>;
+    using Frame = restir::DiFrame<LightId, Patch, Reproject, History, Surfaces>;
     explicit RecipeRendererOf(const restir::DiFrameParams& params, std::uint64_t seed = 0u)
         : params_(params), seed_(seed) {}
 
@@ -257,19 +268,21 @@ TEST(DiFrame, RunDiFrameEqualsThePassesCalledByHand) {
     }
 }
 
-// A history loaded by value (the form a packed or translated history takes) gives the frames
-// that a view of the same reservoirs gives.
-TEST(DiFrame, LoadedHistoryEqualsTheViewedOne) {
+// A history loaded by value (the form a packed or translated history takes), and surfaces of
+// both frames decoded on demand, give the frames that views of the same buffers give.
+TEST(DiFrame, LoadedHistoryAndDecodedSurfacesEqualTheViewedOnes) {
     for (const Variant& variant : variants()) {
         RecipeRenderer viewed(variant.params);
         RecipeRendererOf<LoadingHistory> loaded(variant.params);
         RecipeRendererOf<SurfaceDecodingHistory> decoded(variant.params);
+        RecipeRendererOf<SurfaceDecodingHistory, DecodingSurfaces> array_free(variant.params);
         for (std::uint32_t frame = 0; frame < 6; ++frame) {
             const bool cut = frame == 3;
             const Image& expected = viewed.render(frame, cut);
             const std::string name = variant.name + ", frame " + std::to_string(frame);
             expect_same(loaded.render(frame, cut), expected, name);
-            expect_same(decoded.render(frame, cut), expected, name + ", surfaces decoded");
+            expect_same(decoded.render(frame, cut), expected, name + ", last frame's decoded");
+            expect_same(array_free.render(frame, cut), expected, name + ", both frames' decoded");
         }
     }
 }

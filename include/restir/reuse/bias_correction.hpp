@@ -148,17 +148,17 @@ RESTIR_HOST_DEVICE std::uint32_t for_each_input(const Inputs& inputs, Visit&& vi
     const std::uint32_t slots = inputs.size();
     const std::uint32_t cap = candidate_cap_of(inputs);
     for (std::uint32_t i = 0; i < slots && taken + 1u < max_reuse_inputs; ++i) {
-        const ReuseInput<Sample, S> input = inputs[i];
+        const auto input = lent_input<Sample, S>(inputs[i]);
         if constexpr (!packed_inputs<Inputs>)
             if (input.reservoir == nullptr || !input.reservoir->is_well_formed())
                 continue;
         // The reservoir in its buffer, or a copy where the cap lowers its M.
         if (input.reservoir->candidate_count <= cap) {
-            visit(taken++, *input.reservoir, *input.surface);
+            visit(taken++, *input.reservoir, lent_surface(input));
         } else {
             Reservoir<Sample> capped = *input.reservoir;
             capped.cap_candidate_count(cap);
-            visit(taken++, capped, *input.surface);
+            visit(taken++, capped, lent_surface(input));
         }
     }
     return taken;
@@ -167,25 +167,24 @@ RESTIR_HOST_DEVICE std::uint32_t for_each_input(const Inputs& inputs, Visit&& vi
 /// The inputs that take part, gathered once into an array: what host code visits, since on a
 /// CPU visiting a set again for every pass over the inputs (checks, lookups) cost the spatial
 /// pass 5-15 %; device code visits the set itself and keeps no array.
-template <class Sample, class S>
+template <class Input>
 struct PackedInputs {
     static constexpr bool packed = true;
-    ReuseInput<Sample, S> items[max_reuse_inputs - 1u];
+    Input items[max_reuse_inputs - 1u];
     std::uint32_t count = 0u;
     std::uint32_t candidate_cap = no_candidate_cap;
     RESTIR_HOST_DEVICE constexpr std::uint32_t size() const noexcept { return count; }
-    RESTIR_HOST_DEVICE constexpr ReuseInput<Sample, S> operator[](std::uint32_t i) const {
-        return items[i];
-    }
+    RESTIR_HOST_DEVICE constexpr const Input& operator[](std::uint32_t i) const { return items[i]; }
 };
 
 template <class Sample, class S, class Inputs>
-RESTIR_HOST_DEVICE PackedInputs<Sample, S> pack_inputs(const Inputs& inputs) {
-    PackedInputs<Sample, S> packed;
+RESTIR_HOST_DEVICE auto pack_inputs(const Inputs& inputs) {
+    using Input = decltype(lent_input<Sample, S>(inputs[0u]));
+    PackedInputs<Input> packed;
     packed.candidate_cap = candidate_cap_of(inputs);
     const std::uint32_t slots = inputs.size();
     for (std::uint32_t i = 0; i < slots && packed.count + 1u < max_reuse_inputs; ++i) {
-        const ReuseInput<Sample, S> input = inputs[i];
+        const Input input = lent_input<Sample, S>(inputs[i]);
         if (input.reservoir != nullptr && input.reservoir->is_well_formed())
             packed.items[packed.count++] = input;
     }

@@ -31,6 +31,7 @@
 #include "restir/reuse/neighbour_offsets.hpp"
 #include "restir/reuse/reuse_input.hpp"
 #include "restir/reuse/spatial.hpp"
+#include "restir/reuse/surface_source.hpp"
 #include "restir/reuse/temporal.hpp"
 #include "restir/reuse/visibility.hpp"
 
@@ -71,16 +72,19 @@ RESTIR_HOST_DEVICE constexpr DiFrameParams default_di_frame_params() noexcept { 
 /// `Reproject` is `PixelCoord(PixelCoord)`: the previous frame's pixel that shows a pixel's
 /// surface (outside the image when it was not visible). `History` is last frame's reservoirs:
 /// an `ImageView` of them, or any `ReservoirHistory` (reuse/history.hpp), such as a
-/// `PackedHistory` with a light-id translation.
+/// `PackedHistory` with a light-id translation. `Surfaces` is this frame's G-buffer: an
+/// `ImageView` of surfaces, or a `SurfaceDecoder` (reuse/surface_source.hpp) that decodes them
+/// from the application's own G-buffer. Both hooks together, `surfaces.surface(p)` and
+/// `history.surface(p)`, are RTXDI's `GetGBufferSurface(pixel, previousFrame)`.
 template <class Sample, Surface S, Reprojection Reproject,
-          class History = ImageView<const Reservoir<Sample>>>
-requires std::same_as<History, ImageView<const Reservoir<Sample>>> ||
-    ReservoirHistory<History, Sample>
-struct DiFrame {
+          class History = ImageView<const Reservoir<Sample>>, class Surfaces = ImageView<const S>>
+requires(std::same_as<History, ImageView<const Reservoir<Sample>>> ||
+         ReservoirHistory<History, Sample>) &&
+    SurfaceSource<Surfaces, S> struct DiFrame {
     DiFrameParams params = default_di_frame_params();
     std::uint32_t frame_index = 0u;
     /// This frame's G-buffer.
-    ImageView<const S> surfaces{};
+    Surfaces surfaces{};
     /// Last frame's G-buffer, and the reservoirs that last frame's `finish` stage returned.
     /// Leave `history` empty (`{}`) when it does not apply: in frame 0, after a camera cut,
     /// and after the light set changed (its samples would belong to another integrand).
@@ -189,34 +193,35 @@ struct DiFrame {
         const TemporalParams t = temporal_params();
         if constexpr (history_has_surfaces) {
             LoadedInput input{};
-            if (!has_history() || !is_valid_surface(surfaces[pixel]))
+            const auto& here = surface_at(surfaces, pixel);
+            if (!has_history() || !is_valid_surface(here))
                 return input;
             const PixelCoord p = history_pixel(reproject(pixel), t);
             if (!history.contains(p))
                 return input;
             input.reservoir = history.load(p);
             input.surface = history.surface(p);
-            input.lends =
-                input.reservoir.is_well_formed() &&
-                surfaces_similar(surfaces[pixel], input.surface, t.similarity, material_test);
+            input.lends = input.reservoir.is_well_formed() &&
+                          surfaces_similar(here, input.surface, t.similarity, material_test);
             return input;
         } else if constexpr (loads_history) {
             LoadedInput input{};
-            if (!has_history() || !is_valid_surface(surfaces[pixel]))
+            const auto& here = surface_at(surfaces, pixel);
+            if (!has_history() || !is_valid_surface(here))
                 return input;
             const PixelCoord p = history_pixel(reproject(pixel), t);
             if (!history.contains(p) || !previous_surfaces.contains(p))
                 return input;
             input.reservoir = history.load(p);
             if (input.reservoir.is_well_formed() &&
-                surfaces_similar(surfaces[pixel], previous_surfaces[p], t.similarity,
-                                 material_test))
+                surfaces_similar(here, previous_surfaces[p], t.similarity, material_test))
                 input.surface = &previous_surfaces[p];
             return input;
         } else {
-            if (!has_history() || !is_valid_surface(surfaces[pixel]))
+            const auto& here = surface_at(surfaces, pixel);
+            if (!has_history() || !is_valid_surface(here))
                 return ReuseInput<Sample, S>{};
-            return reusable_input(history_pixel(reproject(pixel), t), surfaces[pixel], history,
+            return reusable_input(history_pixel(reproject(pixel), t), here, history,
                                   previous_surfaces, t.similarity, material_test);
         }
     }
@@ -241,10 +246,10 @@ struct DiFrame {
     const {
         // One named result, returned once, so that it is built in place.
         const bool reuses = input.reservoir != nullptr;
-        Reservoir<Sample> result = reuses
-                                       ? restir::temporal_combine(current, surfaces[pixel], input,
-                                                                  temporal_params(), bridge, rng)
-                                       : current;
+        Reservoir<Sample> result =
+            reuses ? restir::temporal_combine(current, surface_at(surfaces, pixel), input,
+                                              temporal_params(), bridge, rng)
+                   : current;
         if (reuses && params.spatial_passes > 0u)
             retest(pixel, result, current, bridge.visibility);
         return result;
@@ -265,8 +270,9 @@ struct DiFrame {
             return kept(pixel, input);
         const SpatialParams spatial = spatial_params();
         return spatial_result(pixel, pass, input,
-                              find_spatial_neighbours(pixel, surfaces[pixel], input, surfaces,
-                                                      spatial, offsets, bridge.material_test, rng),
+                              find_spatial_neighbours(pixel, surface_at(surfaces, pixel), input,
+                                                      surfaces, spatial, offsets,
+                                                      bridge.material_test, rng),
                               bridge, rng);
     }
 
@@ -275,14 +281,14 @@ struct DiFrame {
     /// their surfaces), empty for a pixel that keeps its reservoir. `spatial_combine` takes them
     /// with the same `rng`.
     template <class MaterialTest, UniformRng Rng>
-    RESTIR_HOST_DEVICE SpatialNeighbours<Sample, S>
+    RESTIR_HOST_DEVICE SpatialNeighbours<Sample, S, Surfaces>
     spatial_neighbours(PixelCoord pixel, ImageView<const Reservoir<Sample>> input,
                        const MaterialTest& material_test, Rng& rng) const {
-        if (!surfaces.contains(pixel) || !is_valid_surface(surfaces[pixel]))
+        if (!surfaces.contains(pixel) || !is_valid_surface(surface_at(surfaces, pixel)))
             return {};
         const SpatialParams spatial = spatial_params();
-        return find_spatial_neighbours(pixel, surfaces[pixel], input, surfaces, spatial, offsets,
-                                       material_test, rng);
+        return find_spatial_neighbours(pixel, surface_at(surfaces, pixel), input, surfaces, spatial,
+                                       offsets, material_test, rng);
     }
 
     /// The second half of `spatial`: combines the pixel's own reservoir in `input` with the
@@ -326,7 +332,7 @@ private:
                                                ImageView<const Reservoir<Sample>> input) const {
         RESTIR_ASSERT(input.contains(pixel) && surfaces.contains(pixel));
         return input.contains(pixel) && surfaces.contains(pixel) &&
-               is_valid_surface(surfaces[pixel]);
+               is_valid_surface(surface_at(surfaces, pixel));
     }
     RESTIR_HOST_DEVICE Reservoir<Sample> kept(PixelCoord pixel,
                                               ImageView<const Reservoir<Sample>> input) const {
@@ -338,7 +344,7 @@ private:
     spatial_result(PixelCoord pixel, std::uint32_t pass, ImageView<const Reservoir<Sample>> input,
                    const Inputs& inputs,
                    const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng) const {
-        Reservoir<Sample> result = combine_inputs(input[pixel], surfaces[pixel], inputs,
+        Reservoir<Sample> result = combine_inputs(input[pixel], surface_at(surfaces, pixel), inputs,
                                                   spatial_params().reuse, bridge, rng);
         if (pass + 1u < params.spatial_passes)
             retest(pixel, result, input[pixel], bridge.visibility);
@@ -349,7 +355,7 @@ private:
     RESTIR_HOST_DEVICE Reservoir<Sample> tested(PixelCoord pixel, Reservoir<Sample> reservoir,
                                                 const Visibility& visible) const {
         if (!params.deferred_visibility && needs_visibility_test(reservoir))
-            apply_visibility(reservoir, surfaces[pixel], visible);
+            apply_visibility(reservoir, surface_at(surfaces, pixel), visible);
         return reservoir;
     }
     template <class Visibility>
@@ -357,7 +363,7 @@ private:
                                    const Reservoir<Sample>& input,
                                    const Visibility& visible) const {
         if (!params.deferred_visibility && needs_visibility_test(result, input))
-            apply_visibility(result, surfaces[pixel], visible);
+            apply_visibility(result, surface_at(surfaces, pixel), visible);
     }
 };
 
@@ -368,9 +374,10 @@ private:
 /// for the pixel and a `RngStream` stream (e.g. `make_pixel_rng(index, frame, stream, seed)`).
 /// Writes the final reservoirs to `out`, which becomes the next frame's `history`; `scratch`
 /// is the second working buffer; both have the image's size and neither may be `history`.
-template <class Sample, Surface S, Reprojection Reproject, class History, class ForEachPixel,
-          class Initial, class Target, class Visibility, class MaterialTest, class RngFor>
-void run_di_frame(const DiFrame<Sample, S, Reproject, History>& frame,
+template <class Sample, Surface S, Reprojection Reproject, class History, class Surfaces,
+          class ForEachPixel, class Initial, class Target, class Visibility, class MaterialTest,
+          class RngFor>
+void run_di_frame(const DiFrame<Sample, S, Reproject, History, Surfaces>& frame,
                   ImageView<Reservoir<Sample>> out, ImageView<Reservoir<Sample>> scratch,
                   const ForEachPixel& for_each_pixel, const Initial& initial_candidates,
                   const ReuseBridge<Target, Visibility, MaterialTest>& bridge,
@@ -387,10 +394,10 @@ void run_di_frame(const DiFrame<Sample, S, Reproject, History>& frame,
     // Stages 1 and 2.
     for_each_pixel([&](PixelCoord pixel) {
         Reservoir<Sample> r{};
-        if (is_valid_surface(frame.surfaces[pixel])) {
+        const auto& surface = surface_at(frame.surfaces, pixel);
+        if (is_valid_surface(surface)) {
             auto rng = rng_for(pixel, RngStream::initial);
-            r = frame.initial(pixel, initial_candidates(pixel, frame.surfaces[pixel], rng),
-                              bridge.visibility);
+            r = frame.initial(pixel, initial_candidates(pixel, surface, rng), bridge.visibility);
             auto temporal_rng = rng_for(pixel, RngStream::temporal);
             r = frame.temporal(pixel, r, bridge, temporal_rng);
         }

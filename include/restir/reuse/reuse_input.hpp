@@ -8,9 +8,11 @@
 #include "restir/core/reservoir.hpp"
 #include "restir/reuse/image_view.hpp"
 #include "restir/reuse/similarity.hpp"
+#include "restir/reuse/surface_source.hpp"
 
 #include <concepts>
 #include <cstdint>
+#include <type_traits>
 
 namespace restir {
 
@@ -23,19 +25,55 @@ struct ReuseInput {
     const SurfaceT* surface = nullptr;
 };
 
+/// A reservoir borrowed with a copy of its surface, for sets that decode surfaces
+/// (`SurfaceDecoder`, reuse/surface_source.hpp) rather than point into an array of them.
+/// `reservoir` is null when there is nothing to borrow.
+template <class Sample, class SurfaceT>
+struct DecodedReuseInput {
+    const Reservoir<Sample>* reservoir = nullptr;
+    SurfaceT surface{};
+};
+
+/// An input as reuse visits it: a `DecodedReuseInput` as it is, anything else as the
+/// `ReuseInput` it converts to.
+template <class Sample, class SurfaceT>
+RESTIR_HOST_DEVICE constexpr DecodedReuseInput<Sample, SurfaceT>
+lent_input(const DecodedReuseInput<Sample, SurfaceT>& input) {
+    return input;
+}
+template <class Sample, class SurfaceT>
+RESTIR_HOST_DEVICE constexpr ReuseInput<Sample, SurfaceT>
+lent_input(const ReuseInput<Sample, SurfaceT>& input) noexcept {
+    return input;
+}
+
+/// The surface that an input lends (which must lend a reservoir).
+template <class Sample, class SurfaceT>
+RESTIR_HOST_DEVICE constexpr const SurfaceT&
+lent_surface(const ReuseInput<Sample, SurfaceT>& input) noexcept {
+    return *input.surface;
+}
+template <class Sample, class SurfaceT>
+RESTIR_HOST_DEVICE constexpr const SurfaceT&
+lent_surface(const DecodedReuseInput<Sample, SurfaceT>& input) noexcept {
+    return input.surface;
+}
+
 /// No cap on the M an input lends.
 inline constexpr std::uint32_t no_candidate_cap = 0xffffffffu;
 
 /// Borrowed reservoirs that a reuse step visits one at a time, as many times as it needs:
-/// `inputs.size()` slots, `inputs[i]` the input of slot i (null pointers when the slot lends
-/// nothing), the same input at every visit. Sets compute their inputs on demand (the spatial
+/// `inputs.size()` slots, `inputs[i]` the input of slot i (a `ReuseInput`, or a
+/// `DecodedReuseInput` with a decoded surface; a null reservoir when the slot lends nothing),
+/// the same input at every visit. Sets compute their inputs on demand (the spatial
 /// neighbours from their offsets and a validity bit mask), so that no step copies its inputs
 /// into an array: a GPU thread keeps them in registers. A set with a member `candidate_cap`
 /// lends each reservoir with its M capped there (the temporal history cap; W unchanged).
 template <class T, class Sample, class SurfaceT>
 concept ReuseInputs = requires(const T& inputs, std::uint32_t i) {
     { inputs.size() } -> std::convertible_to<std::uint32_t>;
-    { inputs[i] } -> std::convertible_to<ReuseInput<Sample, SurfaceT>>;
+    requires std::convertible_to<decltype(inputs[i]), ReuseInput<Sample, SurfaceT>> ||
+        std::same_as<std::remove_cvref_t<decltype(inputs[i])>, DecodedReuseInput<Sample, SurfaceT>>;
 };
 
 /// Inputs already gathered into an array (for renderers that collect them ahead of a pass).
@@ -60,15 +98,26 @@ struct SingleReuseInput {
     }
 };
 
-/// The reservoir of pixel `p` with its surface, if `receiver` may borrow it: `p` lies in both
-/// images, the reservoir is finite and the surfaces are similar. Otherwise null pointers.
+/// Whether pixel `p` may lend its reservoir to `receiver`: `p` lies in both images, the
+/// reservoir is finite and the surfaces are similar; `surfaces` an `ImageView` or a
+/// `SurfaceDecoder`.
+template <class Sample, Surface S, class Surfaces, class MaterialTest>
+requires SurfaceSource<Surfaces, S> RESTIR_HOST_DEVICE bool
+lends_reservoir(PixelCoord p, const S& receiver, ImageView<const Reservoir<Sample>> reservoirs,
+                const Surfaces& surfaces, const SimilarityParams& similarity,
+                const MaterialTest& material_test) {
+    return reservoirs.contains(p) && surfaces.contains(p) && reservoirs[p].is_well_formed() &&
+           surfaces_similar(receiver, surface_at(surfaces, p), similarity, material_test);
+}
+
+/// The reservoir of pixel `p` with its surface, if `receiver` may borrow it
+/// (`lends_reservoir`). Otherwise null pointers.
 template <class Sample, Surface S, class MaterialTest>
 RESTIR_HOST_DEVICE ReuseInput<Sample, S>
 reusable_input(PixelCoord p, const S& receiver, ImageView<const Reservoir<Sample>> reservoirs,
                ImageView<const S> surfaces, const SimilarityParams& similarity,
                const MaterialTest& material_test) {
-    if (!reservoirs.contains(p) || !surfaces.contains(p) || !reservoirs[p].is_well_formed() ||
-        !surfaces_similar(receiver, surfaces[p], similarity, material_test))
+    if (!lends_reservoir(p, receiver, reservoirs, surfaces, similarity, material_test))
         return {};
     return {&reservoirs[p], &surfaces[p]};
 }

@@ -15,9 +15,11 @@
 #include "restir/reuse/neighbour_offsets.hpp"
 #include "restir/reuse/reuse_input.hpp"
 #include "restir/reuse/similarity.hpp"
+#include "restir/reuse/surface_source.hpp"
 
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 
 namespace restir {
 
@@ -117,58 +119,77 @@ RESTIR_HOST_DEVICE inline DiskOffset neighbour_rotation(float u) noexcept {
 /// kept and a GPU thread holds the set in registers. Host code keeps the lending inputs, in
 /// order, in an array (`packed`): on a CPU, recomputing a neighbour at every visit cost the
 /// spatial pass 20-80 % (`restir_bm_reuse`). Both visit the same inputs in the same order.
-template <class Sample, class S>
+/// With surfaces from a `SurfaceDecoder` the inputs are `DecodedReuseInput`s, streamed on the
+/// host too, and a visit decodes the neighbour's surface.
+template <class Sample, class S, class Surfaces = ImageView<const S>>
 struct SpatialNeighbours {
+    /// Whether the surfaces are viewed in an array (inputs point into it).
+    static constexpr bool in_array = surfaces_in_array<Surfaces, S>;
+    using Input = std::conditional_t<in_array, ReuseInput<Sample, S>, DecodedReuseInput<Sample, S>>;
+#if defined(__CUDA_ARCH__)
+    static constexpr bool packed = false;
+#else
+    static constexpr bool packed = in_array; ///< Every input is non-null and well-formed.
+#endif
+
     PixelCoord centre{};
     std::uint32_t start = 0u;
     DiskOffset rotation{1.0f, 0.0f};
     float radius = 0.0f;
     const NeighbourOffsets* offsets = nullptr;
     ImageView<const Reservoir<Sample>> reservoirs{};
-    ImageView<const S> surfaces{};
+    Surfaces surfaces{};
     std::uint32_t count = 0u;                       ///< The neighbours tried.
     std::uint32_t lends = 0u;                       ///< Bit i: neighbour i lends its reservoir.
     std::uint32_t candidate_cap = no_candidate_cap; ///< Caps the M each neighbour lends.
+#if !defined(__CUDA_ARCH__)
+    /// Host code with an array of surfaces: the lending inputs, in order; the first
+    /// `found_count` entries are set. (Plain pointers, left uninitialised beyond that: zeroing
+    /// 15 inputs per pixel showed in the pass.)
+    const Reservoir<Sample>* found_reservoirs[max_reuse_inputs - 1u];
+    const S* found_surfaces[max_reuse_inputs - 1u];
+    std::uint32_t found_count = 0u;
+#endif
 
     /// Neighbour i's pixel.
     RESTIR_HOST_DEVICE constexpr PixelCoord pixel(std::uint32_t i) const {
         return spatial_neighbour(centre, start, i, radius, *offsets, rotation);
     }
-#if defined(__CUDA_ARCH__)
-    static constexpr bool packed = false;
-    RESTIR_HOST_DEVICE constexpr std::uint32_t size() const noexcept { return count; }
-    RESTIR_HOST_DEVICE constexpr ReuseInput<Sample, S> operator[](std::uint32_t i) const {
+    RESTIR_HOST_DEVICE constexpr std::uint32_t size() const noexcept {
+#if !defined(__CUDA_ARCH__)
+        if constexpr (packed)
+            return found_count;
+#endif
+        return count;
+    }
+    RESTIR_HOST_DEVICE constexpr Input operator[](std::uint32_t i) const {
+#if !defined(__CUDA_ARCH__)
+        if constexpr (packed)
+            return {found_reservoirs[i], found_surfaces[i]};
+#endif
         if ((lends >> i & 1u) == 0u)
             return {};
         const PixelCoord p = pixel(i);
-        return {&reservoirs[p], &surfaces[p]};
+        if constexpr (in_array)
+            return {&reservoirs[p], &surfaces[p]};
+        else
+            return {&reservoirs[p], surfaces.surface(p)};
     }
-#else
-    static constexpr bool packed = true; ///< Every input is non-null and well-formed.
-    /// The lending inputs, in order: the first `found_count` entries are set. (Plain pointers,
-    /// left uninitialised beyond that: zeroing 15 inputs per pixel showed in the pass.)
-    const Reservoir<Sample>* found_reservoirs[max_reuse_inputs - 1u];
-    const S* found_surfaces[max_reuse_inputs - 1u];
-    std::uint32_t found_count = 0u;
-    constexpr std::uint32_t size() const noexcept { return found_count; }
-    constexpr ReuseInput<Sample, S> operator[](std::uint32_t i) const {
-        return {found_reservoirs[i], found_surfaces[i]};
-    }
-#endif
 };
 
 /// The neighbours of `pixel` that a spatial pass with `params` reuses: k offsets taken
 /// consecutively from `offsets` from a random start, rotated by a random angle, scaled by the
-/// radius and rounded, each tested once (`reusable_input`). Two uniform numbers. `centre` is
+/// radius and rounded, each tested once (`lends_reservoir`). Two uniform numbers. `centre` is
 /// the pixel whose neighbourhood is searched (the receiver, or its reprojection into the
-/// previous frame); `surface` the receiver's.
-template <class Sample, Surface S, class MaterialTest, UniformRng Rng>
-RESTIR_HOST_DEVICE SpatialNeighbours<Sample, S>
+/// previous frame); `surface` the receiver's; `surfaces` an `ImageView` or a `SurfaceDecoder`.
+template <class Sample, Surface S, class Surfaces, class MaterialTest, UniformRng Rng>
+requires SurfaceSource<Surfaces, S> RESTIR_HOST_DEVICE SpatialNeighbours<Sample, S, Surfaces>
 find_spatial_neighbours(PixelCoord centre, const S& surface,
-                        ImageView<const Reservoir<Sample>> reservoirs, ImageView<const S> surfaces,
+                        ImageView<const Reservoir<Sample>> reservoirs, const Surfaces& surfaces,
                         const SpatialParams& params, const NeighbourOffsets& offsets,
                         const MaterialTest& material_test, Rng& rng) {
-    SpatialNeighbours<Sample, S> set;
+    using Set = SpatialNeighbours<Sample, S, Surfaces>;
+    Set set;
     // Locals while searching: the set is the caller's memory.
     const std::uint32_t start = uniform_index(next_float(rng), neighbour_offset_count);
     const DiskOffset rotation = neighbour_rotation(next_float(rng));
@@ -176,16 +197,15 @@ find_spatial_neighbours(PixelCoord centre, const S& surface,
     std::uint32_t lends = 0u;
     for (std::uint32_t i = 0; i < count; ++i) {
         const PixelCoord p = spatial_neighbour(centre, start, i, params.radius, offsets, rotation);
-        if (p.x == centre.x && p.y == centre.y)
-            continue;
-        const ReuseInput<Sample, S> input =
-            reusable_input(p, surface, reservoirs, surfaces, params.similarity, material_test);
-        if (input.reservoir == nullptr)
+        if ((p.x == centre.x && p.y == centre.y) ||
+            !lends_reservoir(p, surface, reservoirs, surfaces, params.similarity, material_test))
             continue;
         lends |= 1u << i;
 #if !defined(__CUDA_ARCH__)
-        set.found_reservoirs[set.found_count] = input.reservoir;
-        set.found_surfaces[set.found_count++] = input.surface;
+        if constexpr (Set::packed) {
+            set.found_reservoirs[set.found_count] = &reservoirs[p];
+            set.found_surfaces[set.found_count++] = &surfaces[p];
+        }
 #endif
     }
     set.centre = centre;
