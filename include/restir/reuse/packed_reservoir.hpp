@@ -79,33 +79,18 @@ unpack_reservoir(const PackedReservoir& p) noexcept {
     return r;
 }
 
-/// Last frame's packed reservoirs as a `ReservoirHistory` for `DiFrame`. `translate` maps a
-/// light id of last frame's light set to this frame's (`removed_light`: the light is gone, the
-/// pixel lends nothing): a renderer that renumbers its lights or removes some keeps its history
-/// through it. Lights added since last frame are not covered: the history could not have drawn
-/// them, but its MIS weight assumes it could (they would come out too dark), so treat additions
-/// as a light change (an empty history).
-/// Trivially copyable when `Translate` is.
-template <class Translate = SameLightIds>
-struct PackedHistory {
-    ImageView<const PackedReservoir> reservoirs{};
-    Translate translate{};
-
-    RESTIR_HOST_DEVICE constexpr bool empty() const noexcept { return reservoirs.data == nullptr; }
-    RESTIR_HOST_DEVICE constexpr bool contains(PixelCoord p) const noexcept {
-        return reservoirs.contains(p);
-    }
-    RESTIR_HOST_DEVICE constexpr Reservoir<LightSampleRef> load(PixelCoord p) const {
-        Reservoir<LightSampleRef> r = unpack_reservoir(reservoirs[p]);
-        const std::uint32_t id = static_cast<std::uint32_t>(translate(r.sample.light_id));
-        if (id == removed_light)
-            return {};
-        r.sample.light_id = id;
-        return r;
-    }
-};
-
-static_assert(ReservoirHistory<PackedHistory<>, LightSampleRef>);
+/// `stored` unpacked, its light id mapped from last frame's light set to this frame's by
+/// `translate` (empty when `translate` returns `removed_light`: the light is gone).
+template <class Translate>
+RESTIR_HOST_DEVICE constexpr Reservoir<LightSampleRef>
+unpack_reservoir(const PackedReservoir& stored, const Translate& translate) {
+    Reservoir<LightSampleRef> r = unpack_reservoir(stored);
+    const std::uint32_t id = static_cast<std::uint32_t>(translate(r.sample.light_id));
+    if (id == removed_light)
+        return {};
+    r.sample.light_id = id;
+    return r;
+}
 
 /// A stored `Reservoir<LightPointSample>`: the light, the point's position, W, p-hat at its own
 /// surface and M, exactly; the rest of the sample (the light's normal, intensity and falloff) is
@@ -154,21 +139,34 @@ unpack_reservoir(const PackedPointReservoir& p, const Decode& decode) {
     return r.sample.light_id == removed_light ? Reservoir<LightPointSample>{} : r;
 }
 
-/// Last frame's packed light-point reservoirs as a `ReservoirHistory` for `DiFrame`, decoded by
-/// `decode` against this frame's light set (see `LightPointDecoder`; the same caveat about
-/// added lights as `PackedHistory`). Trivially copyable when `Decode` is.
-template <LightPointDecoder Decode>
-struct PackedPointHistory {
-    ImageView<const PackedPointReservoir> reservoirs{};
-    Decode decode{};
+/// Last frame's packed reservoirs as a `ReservoirHistory` for `DiFrame`, each loaded with
+/// `unpack_reservoir(stored, translate)`:
+///  - `PackedReservoir`s (the default): `translate` maps a light id of last frame's light set to
+///    this frame's (`removed_light`: the light is gone, the pixel lends nothing), so that a
+///    renderer that renumbers its lights or removes some keeps its history through it;
+///  - `PackedPointReservoir`s (`PackedPointHistory`): `translate` is a `LightPointDecoder`
+///    of this frame's light set.
+/// Lights added since last frame are not covered: the history could not have drawn them, but
+/// its MIS weight assumes it could (they would come out too dark), so treat additions as a
+/// light change (an empty history). Trivially copyable when `Translate` is.
+template <class Translate = SameLightIds, class Packed = PackedReservoir>
+struct PackedHistory {
+    ImageView<const Packed> reservoirs{};
+    Translate translate{};
 
     RESTIR_HOST_DEVICE constexpr bool empty() const noexcept { return reservoirs.data == nullptr; }
     RESTIR_HOST_DEVICE constexpr bool contains(PixelCoord p) const noexcept {
         return reservoirs.contains(p);
     }
-    RESTIR_HOST_DEVICE constexpr Reservoir<LightPointSample> load(PixelCoord p) const {
-        return unpack_reservoir(reservoirs[p], decode);
+    RESTIR_HOST_DEVICE constexpr auto load(PixelCoord p) const {
+        return unpack_reservoir(reservoirs[p], translate);
     }
 };
+
+/// Last frame's `PackedPointReservoir`s, decoded by `decode` (`PackedHistory`).
+template <LightPointDecoder Decode>
+using PackedPointHistory = PackedHistory<Decode, PackedPointReservoir>;
+
+static_assert(ReservoirHistory<PackedHistory<>, LightSampleRef>);
 
 } // namespace restir
