@@ -193,8 +193,10 @@ requires(std::same_as<History, ImageView<const Reservoir<Sample>>> ||
         const TemporalParams t = temporal_params();
         if constexpr (history_has_surfaces) {
             LoadedInput input{};
+            if (!has_history())
+                return input;
             const auto& here = surface_at(surfaces, pixel);
-            if (!has_history() || !is_valid_surface(here))
+            if (!is_valid_surface(here))
                 return input;
             const PixelCoord p = history_pixel(reproject(pixel), t);
             if (!history.contains(p))
@@ -206,8 +208,10 @@ requires(std::same_as<History, ImageView<const Reservoir<Sample>>> ||
             return input;
         } else if constexpr (loads_history) {
             LoadedInput input{};
+            if (!has_history())
+                return input;
             const auto& here = surface_at(surfaces, pixel);
-            if (!has_history() || !is_valid_surface(here))
+            if (!is_valid_surface(here))
                 return input;
             const PixelCoord p = history_pixel(reproject(pixel), t);
             if (!history.contains(p) || !previous_surfaces.contains(p))
@@ -218,8 +222,10 @@ requires(std::same_as<History, ImageView<const Reservoir<Sample>>> ||
                 input.surface = &previous_surfaces[p];
             return input;
         } else {
+            if (!has_history())
+                return ReuseInput<Sample, S>{};
             const auto& here = surface_at(surfaces, pixel);
-            if (!has_history() || !is_valid_surface(here))
+            if (!is_valid_surface(here))
                 return ReuseInput<Sample, S>{};
             return reusable_input(history_pixel(reproject(pixel), t), here, history,
                                   previous_surfaces, t.similarity, material_test);
