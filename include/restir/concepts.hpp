@@ -7,6 +7,7 @@
 
 #include "restir/core/discrete_sample.hpp"
 #include "restir/core/rng.hpp"
+#include "restir/core/shading_point.hpp"
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
@@ -29,6 +30,23 @@ template <class S>
 concept LightSampler = requires(const S& s, float u, std::uint32_t id) {
     { s.sample(u, u) } -> std::same_as<DiscreteSample>;
     { s.pmf(id) } -> std::convertible_to<float>;
+    { s.light_count() } -> std::convertible_to<std::uint32_t>;
+};
+
+/// Chooses a light id for a shading point (pbrt-v4's `Sample(ctx, u)` and `PMF(ctx, light)`), so
+/// that lights that matter there are drawn more often. Required expressions, for a
+/// `ShadingPoint at` and the rest as in `LightSampler`:
+///   `s.sample(at, u0, u1)` -> DiscreteSample {light id, pmf at `at`}; pmf 0 means "no light".
+///   `s.pmf(at, id)`        -> float, the probability that `sample(at, ...)` returns `id`; it
+///                            must be positive for every light that can light `at`, or RIS
+///                            with it is biased.
+///   `s.light_count()`      -> std::uint32_t.
+/// Every `LightSampler` of the library is one too (it ignores the point).
+template <class S>
+concept ContextLightSampler = requires(const S& s, const ShadingPoint& at, float u,
+                                       std::uint32_t id) {
+    { s.sample(at, u, u) } -> std::same_as<DiscreteSample>;
+    { s.pmf(at, id) } -> std::convertible_to<float>;
     { s.light_count() } -> std::convertible_to<std::uint32_t>;
 };
 

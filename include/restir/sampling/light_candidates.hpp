@@ -15,6 +15,16 @@
 
 namespace restir {
 
+/// The light `choice` with a uniform point uv on it (two numbers), as a candidate whose source
+/// pdf is the light's pmf.
+template <UniformRng Rng>
+RESTIR_HOST_DEVICE SourceSample<LightSampleRef> with_uniform_point(const DiscreteSample& choice,
+                                                                   Rng& rng) {
+    const float u = next_float(rng); // named: the order of the draws is fixed
+    const float v = next_float(rng);
+    return {{choice.index, glm::vec2(u, v)}, choice.pmf};
+}
+
 /// A light drawn from `sampler` (two numbers, `sample_light`) and a uniform point uv on it
 /// (two more), with its source pdf: the light's pmf alone.
 ///
@@ -28,10 +38,16 @@ namespace restir {
 template <LightSampler Sampler, UniformRng Rng>
 RESTIR_HOST_DEVICE SourceSample<LightSampleRef> draw_light_candidate(const Sampler& sampler,
                                                                      Rng& rng) {
-    const DiscreteSample choice = sample_light(sampler, rng);
-    const float u = next_float(rng); // named: the order of the draws is fixed
-    const float v = next_float(rng);
-    return {{choice.index, glm::vec2(u, v)}, choice.pmf};
+    return with_uniform_point(sample_light(sampler, rng), rng);
+}
+
+/// `draw_light_candidate` from a sampler that reads the shading point (`ContextLightSampler`):
+/// the source pdf is the light's pmf at `at`, so RIS at `at` stays unbiased as long as that pmf
+/// is positive wherever the target is.
+template <ContextLightSampler Sampler, UniformRng Rng>
+RESTIR_HOST_DEVICE SourceSample<LightSampleRef>
+draw_light_candidate(const Sampler& sampler, const ShadingPoint& at, Rng& rng) {
+    return with_uniform_point(sample_light(sampler, at, rng), rng);
 }
 
 } // namespace restir

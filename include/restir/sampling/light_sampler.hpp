@@ -29,6 +29,14 @@ struct UniformLightSampler {
     RESTIR_HOST_DEVICE constexpr float pmf(std::uint32_t id) const noexcept {
         return id < count ? 1.0f / static_cast<float>(count) : 0.0f;
     }
+    /// The same for every shading point (`ContextLightSampler`).
+    RESTIR_HOST_DEVICE constexpr DiscreteSample sample(const ShadingPoint&, float u0,
+                                                       float u1) const noexcept {
+        return sample(u0, u1);
+    }
+    RESTIR_HOST_DEVICE constexpr float pmf(const ShadingPoint&, std::uint32_t id) const noexcept {
+        return pmf(id);
+    }
     RESTIR_HOST_DEVICE constexpr std::uint32_t light_count() const noexcept { return count; }
 };
 
@@ -43,6 +51,14 @@ struct PowerLightSampler {
     RESTIR_HOST_DEVICE constexpr float pmf(std::uint32_t id) const noexcept {
         return table.pmf(id);
     }
+    /// The same for every shading point (`ContextLightSampler`).
+    RESTIR_HOST_DEVICE constexpr DiscreteSample sample(const ShadingPoint&, float u0,
+                                                       float u1) const noexcept {
+        return sample(u0, u1);
+    }
+    RESTIR_HOST_DEVICE constexpr float pmf(const ShadingPoint&, std::uint32_t id) const noexcept {
+        return pmf(id);
+    }
     RESTIR_HOST_DEVICE constexpr std::uint32_t light_count() const noexcept { return table.size; }
 };
 
@@ -56,7 +72,16 @@ RESTIR_HOST_DEVICE constexpr DiscreteSample sample_light(const S& sampler, Rng& 
     return sampler.sample(u_first, u_second);
 }
 
-static_assert(LightSampler<UniformLightSampler>);
-static_assert(LightSampler<PowerLightSampler>);
+/// `sample_light` for a shading point.
+template <ContextLightSampler S, UniformRng Rng>
+RESTIR_HOST_DEVICE constexpr DiscreteSample sample_light(const S& sampler, const ShadingPoint& at,
+                                                         Rng& rng) {
+    const float u_first = next_float(rng);
+    const float u_second = next_float(rng);
+    return sampler.sample(at, u_first, u_second);
+}
+
+static_assert(LightSampler<UniformLightSampler> && ContextLightSampler<UniformLightSampler>);
+static_assert(LightSampler<PowerLightSampler> && ContextLightSampler<PowerLightSampler>);
 
 } // namespace restir

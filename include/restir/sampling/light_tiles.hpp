@@ -33,6 +33,19 @@ struct PresampledLight {
 
 static_assert(std::is_trivially_copyable_v<PresampledLight>);
 
+/// A drawn candidate as a tile entry, its point evaluated with `lights` (none when pdf is 0).
+template <LightSet Lights>
+RESTIR_HOST_DEVICE PresampledLight presampled(const SourceSample<LightSampleRef>& candidate,
+                                              const Lights& lights) {
+    PresampledLight entry;
+    entry.reference = candidate.sample;
+    entry.pdf = candidate.pdf;
+    if (candidate.pdf > 0.0f)
+        entry.point =
+            to_light_sample(lights.sample_point(entry.reference.light_id, entry.reference.uv));
+    return entry;
+}
+
 /// Draws one light candidate (`draw_light_candidate`: the pdf is the light's pmf) and
 /// evaluates it with `lights`. A candidate taken from a tile filled this way, by a uniformly random
 /// entry, has exactly the sampler's distribution: RIS over such candidates stays unbiased, since
@@ -41,14 +54,16 @@ static_assert(std::is_trivially_copyable_v<PresampledLight>);
 template <LightSampler Sampler, LightSet Lights, UniformRng Rng>
 RESTIR_HOST_DEVICE PresampledLight presample_light(const Sampler& sampler, const Lights& lights,
                                                    Rng& rng) {
-    const SourceSample<LightSampleRef> candidate = draw_light_candidate(sampler, rng);
-    PresampledLight entry;
-    entry.reference = candidate.sample;
-    entry.pdf = candidate.pdf;
-    if (candidate.pdf > 0.0f)
-        entry.point =
-            to_light_sample(lights.sample_point(entry.reference.light_id, entry.reference.uv));
-    return entry;
+    return presampled(draw_light_candidate(sampler, rng), lights);
+}
+
+/// `presample_light` from a sampler that reads the shading point, for tiles that serve the
+/// region around `at` (a cell of a world-space grid, ReGIR): the entry's pdf is the light's pmf
+/// at `at`, which is the density of the entries of that tile wherever they are used.
+template <ContextLightSampler Sampler, LightSet Lights, UniformRng Rng>
+RESTIR_HOST_DEVICE PresampledLight presample_light(const Sampler& sampler, const ShadingPoint& at,
+                                                   const Lights& lights, Rng& rng) {
+    return presampled(draw_light_candidate(sampler, at, rng), lights);
 }
 
 /// `tile_count` tiles of `tile_size` presampled lights each, contiguous (tile t starts at

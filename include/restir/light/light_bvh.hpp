@@ -1,0 +1,203 @@
+/// @file light/light_bvh.hpp
+/// The host builder of the light BVH (light/light_bvh_view.hpp): the emission bounds of each
+/// light, their merge, and the tree built over a list of them.
+#pragma once
+
+#include "restir/light/light_bvh_view.hpp"
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numeric>
+#include <span>
+#include <stdexcept>
+#include <vector>
+
+namespace restir {
+
+/// Where a light (or a group of lights) emits: the box of its positions, its power, and the
+/// cone of its emission: normals within theta_o of `axis`, light leaving up to theta_e beyond
+/// a normal. A one-sided diffuse emitter or VPL: theta_o = 0, theta_e = pi / 2; an isotropic
+/// point light: theta_o = pi, theta_e = pi / 2.
+struct LightBounds {
+    glm::vec3 lower{std::numeric_limits<float>::max()};
+    glm::vec3 upper{-std::numeric_limits<float>::max()};
+    float power = 0.0f; ///< Emitted flux summed over the channels (>= 0).
+    glm::vec3 axis{0.0f, 0.0f, 1.0f};
+    float cos_theta_o = 1.0f;
+    float cos_theta_e = 0.0f;
+};
+
+/// A flat area light (an emitter triangle or quad) with corners spanning [lower, upper],
+/// emitting on the side of the unit `normal`.
+inline LightBounds area_light_bounds(glm::vec3 lower, glm::vec3 upper, glm::vec3 normal,
+                                     float power) {
+    return {lower, upper, power, normal, 1.0f, 0.0f};
+}
+
+/// A point light: a cosine emitter facing the unit `normal` (a VPL), or isotropic for a zero
+/// normal.
+inline LightBounds point_light_bounds(glm::vec3 position, glm::vec3 normal, float power) {
+    const bool isotropic = normal.x == 0.0f && normal.y == 0.0f && normal.z == 0.0f;
+    return {position,
+            position,
+            power,
+            isotropic ? glm::vec3(0.0f, 0.0f, 1.0f) : normal,
+            isotropic ? -1.0f : 1.0f,
+            0.0f};
+}
+
+namespace detail {
+// The cone (axis, half-angle) that holds cones a and b (Conty Estevez and Kulla 2018, Alg. 1).
+inline void merge_cones(glm::vec3& axis, float& theta, glm::vec3 other_axis, float other_theta) {
+    constexpr float pi_f = 3.14159265358979f;
+    if (other_theta > theta) {
+        std::swap(axis, other_axis);
+        std::swap(theta, other_theta);
+    }
+    const float between = std::acos(std::clamp(glm::dot(axis, other_axis), -1.0f, 1.0f));
+    if (std::min(between + other_theta, pi_f) <= theta)
+        return;
+    const float merged = 0.5f * (theta + between + other_theta);
+    const glm::vec3 normal = glm::cross(axis, other_axis);
+    const float normal_length = glm::length(normal);
+    if (merged >= pi_f || !(normal_length > 1e-7f)) {
+        theta = pi_f;
+        return;
+    }
+    // Rotate `axis` towards `other_axis` by merged - theta (Rodrigues, the rotation axis
+    // perpendicular to `axis`).
+    const float turn = merged - theta;
+    const glm::vec3 k = normal / normal_length;
+    axis = glm::normalize(axis * std::cos(turn) + glm::cross(k, axis) * std::sin(turn));
+    theta = merged;
+}
+} // namespace detail
+
+/// The bounds of two groups of lights together.
+inline LightBounds merge_light_bounds(const LightBounds& a, const LightBounds& b) {
+    if (!(a.power > 0.0f) && a.lower.x > a.upper.x)
+        return b;
+    if (!(b.power > 0.0f) && b.lower.x > b.upper.x)
+        return a;
+    LightBounds merged;
+    merged.lower = glm::min(a.lower, b.lower);
+    merged.upper = glm::max(a.upper, b.upper);
+    merged.power = a.power + b.power;
+    glm::vec3 axis = a.axis;
+    float theta = std::acos(std::clamp(a.cos_theta_o, -1.0f, 1.0f));
+    detail::merge_cones(axis, theta, b.axis, std::acos(std::clamp(b.cos_theta_o, -1.0f, 1.0f)));
+    merged.axis = axis;
+    merged.cos_theta_o = std::cos(theta);
+    merged.cos_theta_e = std::min(a.cos_theta_e, b.cos_theta_e);
+    return merged;
+}
+
+/// The host-built tree over a list of lights (light id = index in the list). Splits every node
+/// at the median of its lights' centres along their widest axis: 2 n - 1 nodes, depth
+/// ceil(log2 n). Throws std::invalid_argument for more than 2^31 lights or a light with a
+/// negative or non-finite power or position.
+class LightBvh {
+public:
+    explicit LightBvh(std::span<const LightBounds> lights) : lights_(lights) {
+        if (lights.size() >= LightBvhNode::leaf_bit)
+            throw std::invalid_argument("LightBvh: more than 2^31 lights");
+        for (const LightBounds& l : lights)
+            if (!(l.power >= 0.0f && l.power < std::numeric_limits<float>::infinity()) ||
+                !is_finite_box(l))
+                throw std::invalid_argument("LightBvh: a light with a negative or non-finite "
+                                            "power or position");
+        paths_.assign(lights.size(), 0u);
+        if (lights.empty())
+            return;
+        nodes_.resize(2u * lights.size() - 1u);
+        std::vector<std::uint32_t> order(lights.size());
+        std::iota(order.begin(), order.end(), 0u);
+        next_free_ = 1u;
+        build(order, 0u, order.size(), 0u, 0u, 0u);
+        lights_ = {};
+    }
+
+    LightBvhView view() const noexcept {
+        return {nodes_.data(), paths_.data(), static_cast<std::uint32_t>(paths_.size())};
+    }
+    const std::vector<LightBvhNode>& nodes() const noexcept { return nodes_; }
+    const std::vector<std::uint64_t>& paths() const noexcept { return paths_; }
+
+private:
+    static bool is_finite_box(const LightBounds& l) {
+        for (int axis = 0; axis < 3; ++axis)
+            if (!std::isfinite(l.lower[axis]) || !std::isfinite(l.upper[axis]) ||
+                l.lower[axis] > l.upper[axis])
+                return false;
+        return true;
+    }
+
+    static LightBvhNode node_of(const LightBounds& b) {
+        LightBvhNode node;
+        node.centre = 0.5f * (b.lower + b.upper);
+        node.radius = 0.5f * glm::length(b.upper - b.lower);
+        node.axis = b.axis;
+        node.cos_theta_o = b.cos_theta_o;
+        node.sin_theta_o = detail::sine_of(b.cos_theta_o);
+        node.cos_theta_e = b.cos_theta_e;
+        node.power = b.power;
+        return node;
+    }
+
+    // Builds node `index` over order[begin, end), at `depth` with `path` from the root, and
+    // returns its bounds.
+    LightBounds build(std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end,
+                      std::uint32_t index, std::uint32_t depth, std::uint64_t path) {
+        if (end - begin == 1u) {
+            const std::uint32_t id = order[begin];
+            nodes_[index] = node_of(lights_[id]);
+            nodes_[index].child_or_light = LightBvhNode::leaf_bit | id;
+            paths_[id] = path | (std::uint64_t{depth} << LightBvhView::depth_shift);
+            return lights_[id];
+        }
+        const std::size_t middle = begin + (end - begin) / 2u;
+        const int axis = widest_centre_axis(order, begin, end);
+        std::nth_element(
+            order.begin() + static_cast<std::ptrdiff_t>(begin),
+            order.begin() + static_cast<std::ptrdiff_t>(middle),
+            order.begin() + static_cast<std::ptrdiff_t>(end),
+            [&](std::uint32_t a, std::uint32_t b) { return centre(a, axis) < centre(b, axis); });
+        const std::uint32_t first = next_free_;
+        next_free_ += 2u;
+        const LightBounds bounds = merge_light_bounds(
+            build(order, begin, middle, first, depth + 1u, path),
+            build(order, middle, end, first + 1u, depth + 1u, path | (std::uint64_t{1} << depth)));
+        nodes_[index] = node_of(bounds);
+        nodes_[index].child_or_light = first;
+        return bounds;
+    }
+
+    float centre(std::uint32_t id, int axis) const {
+        return 0.5f * (lights_[id].lower[axis] + lights_[id].upper[axis]);
+    }
+    int widest_centre_axis(const std::vector<std::uint32_t>& order, std::size_t begin,
+                           std::size_t end) const {
+        glm::vec3 lo(std::numeric_limits<float>::max());
+        glm::vec3 hi(-std::numeric_limits<float>::max());
+        for (std::size_t i = begin; i < end; ++i) {
+            const glm::vec3 c = 0.5f * (lights_[order[i]].lower + lights_[order[i]].upper);
+            lo = glm::min(lo, c);
+            hi = glm::max(hi, c);
+        }
+        const glm::vec3 extent = hi - lo;
+        return extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
+    }
+
+    std::span<const LightBounds> lights_; // while building
+    std::vector<LightBvhNode> nodes_;
+    std::vector<std::uint64_t> paths_;
+    std::uint32_t next_free_ = 0u;
+};
+
+} // namespace restir

@@ -1,0 +1,186 @@
+/// @file light/light_bvh_view.hpp
+/// A bounding volume hierarchy over lights for spatially aware light selection (Conty Estevez
+/// and Kulla 2018, "Importance Sampling of Many Lights with Adaptive Tree Splitting"), as device
+/// code reads it: flat nodes, sampled by `LightBvhView`. Every node bounds its lights'
+/// positions (a box, kept as its centre and half diagonal), their emitted power, and the
+/// directions they emit in (a cone of normals of half-angle theta_o, plus the emission spread
+/// theta_e beyond them). A light is drawn for a shading point by one stochastic descent that
+/// picks each child in proportion to an importance bound of its lights at the point; the pmf
+/// of a light is the product of the choices on its path, found by the same descent from the
+/// path's bits, so it is exact and RIS with it stays unbiased. The host builder is `LightBvh`
+/// (light/light_bvh.hpp).
+#pragma once
+
+#include "restir/config.hpp"
+#include "restir/core/discrete_sample.hpp"
+#include "restir/core/math.hpp"
+#include "restir/core/shading_point.hpp"
+
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <type_traits>
+
+namespace restir {
+
+/// One node of the flat tree: 48 bytes.
+struct LightBvhNode {
+    glm::vec3 centre{0.0f};
+    float radius = 0.0f; ///< Half the diagonal of the box.
+    glm::vec3 axis{0.0f, 0.0f, 1.0f};
+    float cos_theta_o = 1.0f;
+    float cos_theta_e = 0.0f;
+    float power = 0.0f;
+    float sin_theta_o = 0.0f;
+    /// A leaf: `leaf_bit` | the light id. Otherwise the index of the first of its two
+    /// children (the second follows it).
+    std::uint32_t child_or_light = 0u;
+
+    static constexpr std::uint32_t leaf_bit = 0x80000000u;
+    RESTIR_HOST_DEVICE constexpr bool is_leaf() const noexcept {
+        return (child_or_light & leaf_bit) != 0u;
+    }
+};
+
+static_assert(std::is_trivially_copyable_v<LightBvhNode>);
+static_assert(sizeof(LightBvhNode) == 48u);
+
+namespace detail {
+// cos(max(0, a - b)) and sin(max(0, a - b)) from the sines and cosines of a, b in [0, pi].
+RESTIR_HOST_DEVICE inline float cos_difference_clamped(float sin_a, float cos_a, float sin_b,
+                                                       float cos_b) noexcept {
+    return cos_a > cos_b ? 1.0f : cos_a * cos_b + sin_a * sin_b;
+}
+RESTIR_HOST_DEVICE inline float sin_difference_clamped(float sin_a, float cos_a, float sin_b,
+                                                       float cos_b) noexcept {
+    return cos_a > cos_b ? 0.0f : sin_a * cos_b - cos_a * sin_b;
+}
+RESTIR_HOST_DEVICE inline float sine_of(float cosine) noexcept {
+    return std::sqrt(max_of(0.0f, 1.0f - cosine * cosine));
+}
+} // namespace detail
+
+/// The importance bound of a node's lights at a shading point (Conty Estevez and Kulla 2018,
+/// Eq. 3): power cos(theta') / d^2, times cos(theta'_i) of the receiver, where d is the
+/// distance to the box's centre (at least its half diagonal), theta_b the half-angle of its
+/// bounding sphere seen from the point (pi inside it), theta' = max(0, theta_w - theta_o -
+/// theta_b) with theta_w between the cone axis and the direction to the point (0 when
+/// theta' >= theta_e: no light of the node reaches the point), and theta'_i = max(0, theta_i -
+/// theta_b) with theta_i between the receiver normal and the direction to the centre (no
+/// receiver term for a zero normal). Never 0 where a light of the node lights the point.
+RESTIR_HOST_DEVICE inline float light_importance(const LightBvhNode& node,
+                                                 const ShadingPoint& at) noexcept {
+    const glm::vec3 from_centre = at.position - node.centre;
+    const float distance_squared = glm::dot(from_centre, from_centre);
+    const float radius_squared = node.radius * node.radius;
+    const bool inside = distance_squared <= radius_squared;
+    const float cos_b = inside ? -1.0f : std::sqrt(1.0f - radius_squared / distance_squared);
+    const float sin_b = inside ? 0.0f : node.radius / std::sqrt(distance_squared);
+    const float distance = std::sqrt(distance_squared);
+    const glm::vec3 direction =
+        distance > 0.0f ? from_centre / distance : glm::vec3(0.0f, 0.0f, 0.0f);
+    const float cos_w = glm::dot(node.axis, direction);
+    const float sin_w = detail::sine_of(cos_w);
+    const float cos_x =
+        detail::cos_difference_clamped(sin_w, cos_w, node.sin_theta_o, node.cos_theta_o);
+    const float sin_x =
+        detail::sin_difference_clamped(sin_w, cos_w, node.sin_theta_o, node.cos_theta_o);
+    const float cos_emitted = detail::cos_difference_clamped(sin_x, cos_x, sin_b, cos_b);
+    if (!(cos_emitted > node.cos_theta_e))
+        return 0.0f;
+    float importance = node.power * cos_emitted / max_of(distance_squared, radius_squared);
+    const bool has_normal = at.normal.x != 0.0f || at.normal.y != 0.0f || at.normal.z != 0.0f;
+    if (has_normal) {
+        const float cos_i = -glm::dot(at.normal, direction);
+        const float cos_received =
+            detail::cos_difference_clamped(detail::sine_of(cos_i), cos_i, sin_b, cos_b);
+        importance *= max_of(cos_received, 0.0f);
+    }
+    return is_valid_weight(importance) ? importance : 0.0f;
+}
+
+/// The flat tree as a `ContextLightSampler` (concepts.hpp). A view: the `LightBvh` it came
+/// from must outlive it (copy its arrays to the device for a kernel).
+struct LightBvhView {
+    const LightBvhNode* nodes = nullptr;
+    /// Per light: the path from the root, bit k the child taken at depth k (0 the first), and
+    /// the depth in the top `depth_shift` bits.
+    const std::uint64_t* paths = nullptr;
+    std::uint32_t count = 0u; ///< Lights.
+
+    static constexpr std::uint32_t depth_shift = 58u;
+    /// `u0` steers the first `levels_per_number` levels, `u1` the deeper ones: each level
+    /// spends about one bit of its number.
+    static constexpr std::uint32_t levels_per_number = 12u;
+
+    RESTIR_HOST_DEVICE constexpr std::uint32_t light_count() const noexcept { return count; }
+
+    /// One light for `at`, by a descent that takes each child with probability proportional to
+    /// its `light_importance`; pmf 0 when no light can light `at`.
+    RESTIR_HOST_DEVICE DiscreteSample sample(const ShadingPoint& at, float u0, float u1) const {
+        if (count == 0u)
+            return {};
+        std::uint32_t node = 0u;
+        float pmf = 1.0f;
+        float u = u0;
+        for (std::uint32_t depth = 0u; !nodes[node].is_leaf(); ++depth) {
+            if (depth == levels_per_number)
+                u = u1;
+            const float p_first = first_child_probability(nodes[node], at);
+            if (!(p_first >= 0.0f)) // both children unimportant (NaN)
+                return {};
+            const std::uint32_t first = nodes[node].child_or_light;
+            if (u < p_first) {
+                node = first;
+                pmf *= p_first;
+                u = u / p_first;
+            } else {
+                node = first + 1u;
+                pmf *= 1.0f - p_first;
+                u = (u - p_first) / (1.0f - p_first);
+            }
+            u = min_of(u, 0x1.fffffep-1f);
+        }
+        if (count == 1u && !(light_importance(nodes[0], at) > 0.0f))
+            return {};
+        return {nodes[node].child_or_light & ~LightBvhNode::leaf_bit, pmf};
+    }
+
+    /// The probability that `sample(at, ...)` returns light `id`: the same descent along the
+    /// light's path.
+    RESTIR_HOST_DEVICE float pmf(const ShadingPoint& at, std::uint32_t id) const {
+        if (id >= count)
+            return 0.0f;
+        if (count == 1u)
+            return light_importance(nodes[0], at) > 0.0f ? 1.0f : 0.0f;
+        const std::uint64_t path = paths[id];
+        const auto depth = static_cast<std::uint32_t>(path >> depth_shift);
+        std::uint32_t node = 0u;
+        float pmf = 1.0f;
+        for (std::uint32_t level = 0u; level < depth; ++level) {
+            const float p_first = first_child_probability(nodes[node], at);
+            if (!(p_first >= 0.0f))
+                return 0.0f;
+            const bool second = (path >> level & 1u) != 0u;
+            pmf *= second ? 1.0f - p_first : p_first;
+            node = nodes[node].child_or_light + (second ? 1u : 0u);
+        }
+        return pmf;
+    }
+
+private:
+    // The probability of descending into the first child of interior node `parent`; NaN when
+    // neither child can light `at`.
+    RESTIR_HOST_DEVICE float first_child_probability(const LightBvhNode& parent,
+                                                     const ShadingPoint& at) const {
+        const float first = light_importance(nodes[parent.child_or_light], at);
+        const float second = light_importance(nodes[parent.child_or_light + 1u], at);
+        const float total = first + second;
+        return total > 0.0f ? first / total : std::numeric_limits<float>::quiet_NaN();
+    }
+};
+
+} // namespace restir

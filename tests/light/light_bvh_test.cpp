@@ -1,0 +1,225 @@
+// The light BVH (light/light_bvh.hpp): the pmf sums to one at every shading point, the descent
+// draws lights with exactly that pmf (chi-square), the pmf is positive for every light that
+// lights the point, and RIS with BVH candidates is unbiased; at 1k and at 1M lights.
+#include "restir/light/light_bvh.hpp"
+
+#include "restir/core/rng.hpp"
+#include "restir/sampling/light_candidates.hpp"
+#include "restir/sampling/light_sampler.hpp"
+#include "restir/sampling/ris.hpp"
+
+#include "support/chi2.hpp"
+#include "support/statistics.hpp"
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <stdexcept>
+#include <vector>
+
+namespace {
+
+using restir::LightBounds;
+using restir::ShadingPoint;
+
+glm::vec3 random_direction(restir::Pcg32& rng) {
+    const float z = 2.0f * next_float(rng) - 1.0f;
+    const float phi = 6.2831853f * next_float(rng);
+    const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+    return {r * std::cos(phi), r * std::sin(phi), z};
+}
+
+// The lights of a test scene: `count` lights in [0, 10]^3, a third each small area lights
+// (random facing), cosine point emitters (VPLs) and isotropic points, powers over three orders
+// of magnitude. With `points_only`, no area lights.
+struct TestLight {
+    glm::vec3 position;
+    glm::vec3 normal; // zero: isotropic
+    float power;
+};
+std::vector<TestLight> test_lights(std::uint32_t count, std::uint64_t seed) {
+    restir::Pcg32 rng = restir::make_pixel_rng(0u, 0u, 0u, seed);
+    std::vector<TestLight> lights(count);
+    for (std::uint32_t i = 0; i < count; ++i) {
+        lights[i].position = 10.0f * glm::vec3(next_float(rng), next_float(rng), next_float(rng));
+        lights[i].normal = i % 3u == 2u ? glm::vec3(0.0f) : random_direction(rng);
+        lights[i].power = std::exp(6.9f * (next_float(rng) - 0.5f));
+    }
+    return lights;
+}
+std::vector<LightBounds> bounds_of(const std::vector<TestLight>& lights) {
+    std::vector<LightBounds> bounds;
+    bounds.reserve(lights.size());
+    for (std::uint32_t i = 0; i < lights.size(); ++i) {
+        const TestLight& l = lights[i];
+        if (i % 3u == 0u) { // a 0.2-wide quad in the plane facing `normal`
+            const glm::vec3 half(0.1f);
+            bounds.push_back(
+                restir::area_light_bounds(l.position - half, l.position + half, l.normal, l.power));
+        } else {
+            bounds.push_back(restir::point_light_bounds(l.position, l.normal, l.power));
+        }
+    }
+    return bounds;
+}
+
+ShadingPoint random_point(restir::Pcg32& rng) {
+    const glm::vec3 p(next_float(rng), next_float(rng), next_float(rng));
+    return {-2.0f + 14.0f * p, random_direction(rng)};
+}
+
+// Irradiance at `at` from a point light (the integrand RIS estimates in the unbiasedness test).
+float point_irradiance(const TestLight& l, const ShadingPoint& at) {
+    const glm::vec3 d = l.position - at.position;
+    const float d2 = glm::dot(d, d);
+    const glm::vec3 w = d / std::sqrt(d2);
+    const float receiver = std::max(0.0f, glm::dot(at.normal, w));
+    const bool isotropic = l.normal == glm::vec3(0.0f);
+    const float emitter = isotropic ? 0.25f : std::max(0.0f, -glm::dot(l.normal, w)) / 3.1415927f;
+    return l.power * receiver * emitter / d2;
+}
+
+// The pmf is positive wherever a point light lights the point, sums to at most one (the rest
+// is the chance that the descent reaches a node none of whose lights reach the point: no
+// light), and the descent's histogram, with "no light" as one more cell, matches it.
+void check_distribution(std::uint32_t light_count, std::uint32_t points, std::uint32_t draws) {
+    const std::vector<TestLight> lights = test_lights(light_count, 11u);
+    const std::vector<LightBounds> bounds = bounds_of(lights);
+    const restir::LightBvh bvh(bounds);
+    const restir::LightBvhView view = bvh.view();
+    ASSERT_EQ(view.light_count(), light_count);
+    restir::Pcg32 rng = restir::make_pixel_rng(1u, 0u, 0u, 12u);
+    const double significance = restir::test::sidak_significance(0.01, static_cast<int>(points));
+    for (std::uint32_t k = 0; k < points; ++k) {
+        const ShadingPoint at = random_point(rng);
+        std::vector<double> expected(light_count + 1u);
+        double total = 0.0;
+        for (std::uint32_t id = 0; id < light_count; ++id) {
+            const float pmf = view.pmf(at, id);
+            total += static_cast<double>(pmf);
+            expected[id] = static_cast<double>(pmf) * draws;
+            if (id % 3u != 0u && point_irradiance(lights[id], at) > 0.0f) {
+                ASSERT_GT(pmf, 0.0f) << "light " << id << " lights point " << k;
+            }
+        }
+        ASSERT_LE(total, 1.0 + 1e-4) << "point " << k;
+        expected[light_count] = std::max(0.0, 1.0 - total) * draws;
+        std::vector<double> observed(light_count + 1u, 0.0);
+        for (std::uint32_t i = 0; i < draws; ++i) {
+            const restir::DiscreteSample s = restir::sample_light(view, at, rng);
+            if (!(s.pmf > 0.0f)) {
+                observed[light_count] += 1.0;
+                continue;
+            }
+            ASSERT_LT(s.index, light_count);
+            ASSERT_FLOAT_EQ(s.pmf, view.pmf(at, s.index));
+            observed[s.index] += 1.0;
+        }
+        const restir::test::Chi2Result chi2 = restir::test::pearson_chi2(observed, expected);
+        EXPECT_GT(chi2.p_value, significance)
+            << "point " << k << ": chi2 " << chi2.statistic << ", dof " << chi2.degrees_of_freedom;
+    }
+}
+
+TEST(LightBvh, DrawsLightsWithItsPmfAt1kLights) { check_distribution(1000u, 8u, 200000u); }
+
+TEST(LightBvh, DrawsLightsWithItsPmfAt1MLights) { check_distribution(1u << 20u, 2u, 400000u); }
+
+// RIS with BVH candidates: the mean of f(Y) W over trials is the irradiance summed over all
+// lights, within 4 measured standard errors, at points inside, beside and far from the lights.
+void check_ris_unbiased(std::uint32_t light_count) {
+    std::vector<TestLight> lights = test_lights(light_count, 21u);
+    for (TestLight& l : lights) // point lights only: the truth is a plain sum
+        l.normal = l.normal == glm::vec3(0.0f) ? l.normal : glm::normalize(l.normal);
+    std::vector<LightBounds> bounds;
+    for (const TestLight& l : lights)
+        bounds.push_back(restir::point_light_bounds(l.position, l.normal, l.power));
+    const restir::LightBvh bvh(bounds);
+    const restir::LightBvhView view = bvh.view();
+    const ShadingPoint points[3] = {{glm::vec3(5.0f), glm::normalize(glm::vec3(1.0f, 2.0f, 3.0f))},
+                                    {glm::vec3(-1.0f, 5.0f, 5.0f), glm::vec3(1.0f, 0.0f, 0.0f)},
+                                    {glm::vec3(40.0f, 3.0f, 2.0f), glm::vec3(-1.0f, 0.0f, 0.0f)}};
+    for (const ShadingPoint& at : points) {
+        double truth = 0.0;
+        for (const TestLight& l : lights)
+            truth += static_cast<double>(point_irradiance(l, at));
+        restir::Pcg32 rng = restir::make_pixel_rng(2u, 0u, 0u, 22u);
+        restir::test::RunningStats estimate;
+        for (std::uint32_t trial = 0; trial < 20000u; ++trial) {
+            const auto r = restir::resample_ris(
+                rng, 8u,
+                [&](restir::Pcg32& g) { return restir::draw_light_candidate(view, at, g); },
+                [&](const restir::LightSampleRef& x) {
+                    return point_irradiance(lights[x.light_id], at);
+                });
+            const float f = r.has_sample() ? point_irradiance(lights[r.sample.light_id], at) : 0.0f;
+            estimate.add(static_cast<double>(f * r.contribution_weight));
+        }
+        EXPECT_TRUE(restir::test::agrees_with(estimate, truth));
+    }
+}
+
+TEST(LightBvh, RisWithBvhCandidatesIsUnbiasedAt1kLights) { check_ris_unbiased(1000u); }
+
+TEST(LightBvh, RisWithBvhCandidatesIsUnbiasedAt1MLights) { check_ris_unbiased(1u << 20u); }
+
+TEST(LightBvh, PointsNoLightReachesDrawNothing) {
+    // Every light faces +z from z = 0: a point below them, or one facing away, sees none.
+    std::vector<LightBounds> bounds;
+    for (int i = 0; i < 64; ++i)
+        bounds.push_back(restir::point_light_bounds(
+            glm::vec3(static_cast<float>(i % 8), static_cast<float>(i / 8), 0.0f),
+            glm::vec3(0.0f, 0.0f, 1.0f), 1.0f));
+    const restir::LightBvh bvh(bounds);
+    const restir::LightBvhView view = bvh.view();
+    const ShadingPoint below{glm::vec3(3.5f, 3.5f, -5.0f), glm::vec3(0.0f, 0.0f, 1.0f)};
+    const ShadingPoint facing_away{glm::vec3(3.5f, 3.5f, 5.0f), glm::vec3(0.0f, 0.0f, 1.0f)};
+    for (const ShadingPoint& at : {below, facing_away}) {
+        EXPECT_EQ(view.sample(at, 0.3f, 0.7f).pmf, 0.0f);
+        for (std::uint32_t id = 0; id < 64u; ++id)
+            EXPECT_EQ(view.pmf(at, id), 0.0f);
+    }
+    const ShadingPoint above{glm::vec3(3.5f, 3.5f, 5.0f), glm::vec3(0.0f, 0.0f, -1.0f)};
+    EXPECT_GT(view.sample(above, 0.3f, 0.7f).pmf, 0.0f);
+}
+
+TEST(LightBvh, OneLightAndNoLights) {
+    const std::vector<LightBounds> one = {
+        restir::point_light_bounds(glm::vec3(0.0f), glm::vec3(0.0f, 0.0f, 1.0f), 2.0f)};
+    const restir::LightBvh single(one);
+    const ShadingPoint lit{glm::vec3(0.0f, 0.0f, 1.0f), glm::vec3(0.0f, 0.0f, -1.0f)};
+    const ShadingPoint unlit{glm::vec3(0.0f, 0.0f, -1.0f), glm::vec3(0.0f, 0.0f, 1.0f)};
+    EXPECT_EQ(single.view().sample(lit, 0.5f, 0.5f).pmf, 1.0f);
+    EXPECT_EQ(single.view().pmf(lit, 0u), 1.0f);
+    EXPECT_EQ(single.view().sample(unlit, 0.5f, 0.5f).pmf, 0.0f);
+    EXPECT_EQ(single.view().pmf(unlit, 0u), 0.0f);
+    const restir::LightBvh none(std::vector<LightBounds>{});
+    EXPECT_EQ(none.view().sample(lit, 0.5f, 0.5f).pmf, 0.0f);
+    EXPECT_EQ(none.view().pmf(lit, 0u), 0.0f);
+}
+
+TEST(LightBvh, RejectsLightsWithBadPowerOrPosition) {
+    for (const float bad : {-1.0f, std::nanf(""), INFINITY}) {
+        std::vector<LightBounds> bounds = {
+            restir::point_light_bounds(glm::vec3(0.0f), glm::vec3(0.0f, 0.0f, 1.0f), 1.0f),
+            restir::point_light_bounds(glm::vec3(1.0f), glm::vec3(0.0f, 0.0f, 1.0f), bad)};
+        EXPECT_THROW(restir::LightBvh{bounds}, std::invalid_argument);
+        if (bad != -1.0f) { // a position may be negative
+            bounds[1] =
+                restir::point_light_bounds(glm::vec3(bad), glm::vec3(0.0f, 0.0f, 1.0f), 1.0f);
+            EXPECT_THROW(restir::LightBvh{bounds}, std::invalid_argument);
+        }
+    }
+}
+
+TEST(LightBvh, PowerAndUniformSamplersIgnoreTheShadingPoint) {
+    const restir::UniformLightSampler uniform{10u};
+    const ShadingPoint at{glm::vec3(1.0f), glm::vec3(0.0f, 1.0f, 0.0f)};
+    EXPECT_EQ(uniform.sample(at, 0.25f, 0.5f).index, uniform.sample(0.25f, 0.5f).index);
+    EXPECT_EQ(uniform.pmf(at, 3u), uniform.pmf(3u));
+}
+
+} // namespace
