@@ -1,0 +1,123 @@
+// Microbenchmarks of the light BVH (restir/light/light_bvh.hpp) at 1k and 1M lights: building
+// it, one draw (`BM_LightBvh_Sample`) and one pmf at a shading point, beside one draw of the
+// power sampler (alias table) over the same lights.
+//
+// The lights fill a 10^3 box: a third small area lights facing random directions, a third
+// cosine point emitters (VPLs), a third isotropic points, powers over three decades. The
+// shading points are a 64 x 64 grid on the floor below them (normal up), visited row by row as
+// pixels of an image would be, so that consecutive draws descend through nearby nodes.
+#include "restir/core/discrete_sample.hpp"
+#include "restir/core/rng.hpp"
+#include "restir/light/light_bvh.hpp"
+#include "restir/sampling/alias_table.hpp"
+#include "restir/sampling/light_sampler.hpp"
+
+#include <benchmark/benchmark.h>
+#include <glm/vec3.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <vector>
+
+namespace {
+
+constexpr std::uint32_t kGrid = 64u;
+
+std::vector<restir::LightBounds> make_lights(std::uint32_t count) {
+    restir::Pcg32 rng = restir::make_pixel_rng(0u, 0u, 0u, 0x5eedu);
+    std::vector<restir::LightBounds> lights;
+    lights.reserve(count);
+    for (std::uint32_t i = 0; i < count; ++i) {
+        const glm::vec3 p = 10.0f * glm::vec3(next_float(rng), next_float(rng), next_float(rng));
+        const float z = 2.0f * next_float(rng) - 1.0f;
+        const float phi = 6.2831853f * next_float(rng);
+        const float r = std::sqrt(1.0f - z * z);
+        const glm::vec3 n(r * std::cos(phi), r * std::sin(phi), z);
+        const float power = std::exp(6.9f * (next_float(rng) - 0.5f));
+        if (i % 3u == 0u)
+            lights.push_back(
+                restir::area_light_bounds(p - glm::vec3(0.05f), p + glm::vec3(0.05f), n, power));
+        else
+            lights.push_back(
+                restir::point_light_bounds(p, i % 3u == 1u ? n : glm::vec3(0.0f), power));
+    }
+    return lights;
+}
+
+const std::vector<restir::LightBounds>& lights(std::uint32_t count) {
+    static std::map<std::uint32_t, std::vector<restir::LightBounds>> cache;
+    auto it = cache.find(count);
+    if (it == cache.end())
+        it = cache.emplace(count, make_lights(count)).first;
+    return it->second;
+}
+
+const restir::LightBvh& bvh(std::uint32_t count) {
+    static std::map<std::uint32_t, restir::LightBvh> cache;
+    auto it = cache.find(count);
+    if (it == cache.end())
+        it = cache.emplace(count, restir::LightBvh(lights(count))).first;
+    return it->second;
+}
+
+restir::ShadingPoint floor_point(std::uint32_t i) {
+    const float x = (static_cast<float>(i % kGrid) + 0.5f) * (10.0f / kGrid);
+    const float z = (static_cast<float>(i / kGrid % kGrid) + 0.5f) * (10.0f / kGrid);
+    return {glm::vec3(x, -1.0f, z), glm::vec3(0.0f, 1.0f, 0.0f)};
+}
+
+void BM_LightBvh_Build(benchmark::State& state) {
+    const auto& input = lights(static_cast<std::uint32_t>(state.range(0)));
+    for (auto _ : state) {
+        restir::LightBvh built(input);
+        benchmark::DoNotOptimize(built.nodes().data());
+    }
+    state.SetItemsProcessed(state.iterations() * state.range(0));
+}
+BENCHMARK(BM_LightBvh_Build)->Arg(1000)->Arg(1 << 20)->Unit(benchmark::kMillisecond);
+
+void BM_LightBvh_Sample(benchmark::State& state) {
+    const restir::LightBvhView view = bvh(static_cast<std::uint32_t>(state.range(0))).view();
+    restir::Pcg32 rng = restir::make_pixel_rng(1u, 0u, 0u, 1u);
+    std::uint32_t i = 0u, found = 0u;
+    for (auto _ : state) {
+        const restir::DiscreteSample s = restir::sample_light(view, floor_point(i++), rng);
+        found += s.pmf > 0.0f ? 1u : 0u;
+        benchmark::DoNotOptimize(s);
+    }
+    state.SetItemsProcessed(state.iterations());
+    state.counters["found"] = static_cast<double>(found) / static_cast<double>(state.iterations());
+}
+BENCHMARK(BM_LightBvh_Sample)->Arg(1000)->Arg(1 << 20);
+
+void BM_LightBvh_Pmf(benchmark::State& state) {
+    const auto count = static_cast<std::uint32_t>(state.range(0));
+    const restir::LightBvhView view = bvh(count).view();
+    restir::Pcg32 rng = restir::make_pixel_rng(2u, 0u, 0u, 1u);
+    std::uint32_t i = 0u;
+    for (auto _ : state) {
+        const float pmf = view.pmf(floor_point(i++), restir::uniform_index(next_float(rng), count));
+        benchmark::DoNotOptimize(pmf);
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_LightBvh_Pmf)->Arg(1000)->Arg(1 << 20);
+
+void BM_PowerSampler_Sample(benchmark::State& state) {
+    const auto& input = lights(static_cast<std::uint32_t>(state.range(0)));
+    std::vector<float> powers;
+    for (const restir::LightBounds& l : input)
+        powers.push_back(l.power);
+    const restir::AliasTable table(powers);
+    const restir::PowerLightSampler sampler{table.view()};
+    restir::Pcg32 rng = restir::make_pixel_rng(3u, 0u, 0u, 1u);
+    for (auto _ : state) {
+        const restir::DiscreteSample s = restir::sample_light(sampler, rng);
+        benchmark::DoNotOptimize(s);
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_PowerSampler_Sample)->Arg(1000)->Arg(1 << 20);
+
+} // namespace
