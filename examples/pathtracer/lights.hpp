@@ -4,8 +4,10 @@
 
 #include "scene.hpp"
 
+#include <restir/light/light_bvh.hpp>
 #include <restir/light/light_sample.hpp>
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
@@ -58,6 +60,13 @@ public:
     /// The emitter index of triangle `t`, or `none`.
     std::uint32_t emitter_of_triangle(std::uint32_t t) const { return emitter_of_triangle_[t]; }
     float area(std::uint32_t id) const { return triangles_[id].area; }
+    /// Emitter `id`'s emission bounds for a light BVH, with its `power`.
+    restir::LightBounds bounds(std::uint32_t id, float power) const {
+        const Emitter& e = triangles_[id];
+        const glm::vec3 b = e.a + e.ab, c = e.a + e.ac;
+        return restir::area_light_bounds(glm::min(e.a, glm::min(b, c)),
+                                         glm::max(e.a, glm::max(b, c)), e.normal, power);
+    }
     glm::vec3 radiance(std::uint32_t id) const { return triangles_[id].radiance; }
 
 private:

@@ -187,9 +187,12 @@ void add_light_sampling_options(CLI::App& app, RenderSettings& settings) {
                    "(true/false); false assumes samples visible inside the weights (no rays in "
                    "reuse, slightly biased: docs/noise-and-bias.md)");
     app.add_option("--source", settings.source,
-                   "Candidate distribution of ris/restir: power or uniform")
-        ->transform(names<CandidateSource>(
-            {{"power", CandidateSource::power}, {"uniform", CandidateSource::uniform}}))
+                   "Candidate distribution of ris/restir: power or uniform (from light tiles), "
+                   "or bvh (by importance at the pixel's surface, a light BVH drawn per pixel: "
+                   "far better candidates, each costing more; lower --candidates)")
+        ->transform(names<CandidateSource>({{"power", CandidateSource::power},
+                                            {"uniform", CandidateSource::uniform},
+                                            {"bvh", CandidateSource::bvh}}))
         ->default_str("power");
 }
 

@@ -97,9 +97,10 @@ struct Renderer::Impl {
     double photon_ms = 0.0;                       // time of the last photon shooting
     std::optional<std::uint32_t> photons_per_set; // from the pilot pass of the first set
     Unified lights;
-    restir::AliasTable light_table;   // unified: emitters + VPLs, by power
-    restir::AliasTable emitter_table; // emitters only, by power (path tracing NEE)
-    restir::AliasTable vpl_table;     // VPLs only, by power (reference VPL NEE)
+    restir::AliasTable light_table;            // unified: emitters + VPLs, by power
+    restir::AliasTable emitter_table;          // emitters only, by power (path tracing NEE)
+    restir::AliasTable vpl_table;              // VPLs only, by power (reference VPL NEE)
+    std::optional<restir::LightBvh> light_bvh; // unified, by importance (--source bvh)
     restir::NeighbourOffsets offsets = restir::make_neighbour_offsets();
 
     std::vector<GSurface> surfaces, previous_surfaces;
@@ -208,10 +209,24 @@ struct Renderer::Impl {
                                  "' has no float power: too bright (lower its Ke) or too small");
         }
         light_table.build(powers);
+        if (settings.source == CandidateSource::bvh)
+            build_light_bvh(powers);
         emitter_table.build(std::span<const float>(powers.data(), emitters.light_count()));
         if (!vpls.empty())
             vpl_table.build(
                 std::span<const float>(powers.data() + emitters.light_count(), vpls.size()));
+    }
+
+    // The light BVH over the unified set: emitters as area lights, VPLs as cosine emitters.
+    void build_light_bvh(const std::vector<float>& powers) {
+        std::vector<restir::LightBounds> bounds;
+        bounds.reserve(powers.size());
+        for (std::uint32_t e = 0; e < emitters.light_count(); ++e)
+            bounds.push_back(emitters.bounds(e, powers[e]));
+        for (std::uint32_t v = 0; v < vpls.size(); ++v)
+            bounds.push_back(restir::point_light_bounds(vpls[v].position, vpls[v].normal,
+                                                        powers[emitters.light_count() + v]));
+        light_bvh.emplace(bounds);
     }
 
     // --- Light at a surface: contribution, p-hat and visibility ---------------------------
@@ -484,6 +499,8 @@ struct Renderer::Impl {
     restir::LightTileArrays tiles;
 
     void fill_tiles(std::uint32_t frame_index) {
+        if (settings.source == CandidateSource::bvh)
+            return; // candidates drawn per pixel
         tile_planes.resize(std::size_t{tile_count} * tile_size * restir::tile_plane_count);
         tile_references.resize(std::size_t{tile_count} * tile_size);
         tiles = {tile_planes.data(), tile_references.data(), tile_count, tile_size};
@@ -510,6 +527,8 @@ struct Renderer::Impl {
     // blocks of 8 consecutive entries: sampling/ris_batch.hpp).
     Reservoir initial_reservoir(std::uint32_t x, std::uint32_t y, std::uint32_t frame_index,
                                 const GSurface& s, restir::Pcg32& rng) const {
+        if (settings.source == CandidateSource::bvh)
+            return bvh_reservoir(s, rng);
         const std::uint32_t tile = tiles.tile_for(block_of(x, y), frame_index);
         // Candidate blocks walk the tile's blocks from a random start with a random odd stride:
         // every candidate is a uniformly random entry (so its density is the entry's pdf), and
@@ -526,6 +545,26 @@ struct Renderer::Impl {
                     tiles, tile, first, s.position, s.normal, channel_weights, block);
             });
         return picked.with_sample(tiles.point_sample(picked.sample));
+    }
+
+    // Streaming RIS over candidates drawn from the light BVH for the pixel's surface (the
+    // source pdf: the light's pmf there).
+    Reservoir bvh_reservoir(const GSurface& s, restir::Pcg32& rng) const {
+        const restir::LightBvhView bvh = light_bvh->view();
+        const restir::ShadingPoint at{s.position, s.normal};
+        return restir::resample_ris(
+            rng, settings.candidates,
+            [&](restir::Pcg32& g) {
+                const restir::SourceSample<restir::LightSampleRef> c =
+                    restir::draw_light_candidate(bvh, at, g);
+                restir::SourceSample<restir::LightPointSample> candidate{{}, c.pdf};
+                if (c.pdf > 0.0f)
+                    candidate.sample = restir::make_light_point_sample(
+                        c.sample.light_id, lights.sample_point(c.sample.light_id, c.sample.uv),
+                        falloff);
+                return candidate;
+            },
+            [&](const restir::LightPointSample& x) { return point_target(x, s); });
     }
 
     // f(y) W without visibility, for a reservoir whose sample is known to be visible.

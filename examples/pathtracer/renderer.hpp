@@ -24,8 +24,10 @@ enum class GlobalIllumination {
     vpl,  ///< Direct light + VPLs (photons shot once), through one unified light set.
     path  ///< Direct light + path-traced indirect light.
 };
-/// Where RIS candidates come from: lights in proportion to their power, or uniformly.
-enum class CandidateSource { power, uniform };
+/// Where RIS candidates come from: lights in proportion to their power (from light tiles), or
+/// uniformly (from light tiles), or by their importance at the pixel's surface (a light BVH,
+/// drawn per pixel).
+enum class CandidateSource { power, uniform, bvh };
 /// A still camera, or one that turns about its look-at point a little every frame.
 enum class CameraMotion { none, orbit };
 

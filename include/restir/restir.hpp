@@ -12,6 +12,8 @@
 #include "restir/core/rng.hpp"
 #include "restir/light/falloff.hpp"
 #include "restir/light/irradiance.hpp"
+#include "restir/light/light_bvh.hpp"
+#include "restir/light/light_bvh_view.hpp"
 #include "restir/light/light_point_sample.hpp"
 #include "restir/light/light_sample.hpp"
 #include "restir/light/shadow_segment.hpp"

@@ -73,15 +73,17 @@ RESTIR_HOST_DEVICE inline float sine_of(float cosine) noexcept {
 /// receiver term for a zero normal). Never 0 where a light of the node lights the point.
 RESTIR_HOST_DEVICE inline float light_importance(const LightBvhNode& node,
                                                  const ShadingPoint& at) noexcept {
+    // Selects rather than branches throughout: the outcomes vary from node to node.
     const glm::vec3 from_centre = at.position - node.centre;
     const float distance_squared = glm::dot(from_centre, from_centre);
     const float radius_squared = node.radius * node.radius;
+    const float inverse_distance = distance_squared > 0.0f ? 1.0f / std::sqrt(distance_squared)
+                                                           : 0.0f;
+    const glm::vec3 direction = from_centre * inverse_distance;
     const bool inside = distance_squared <= radius_squared;
-    const float cos_b = inside ? -1.0f : std::sqrt(1.0f - radius_squared / distance_squared);
-    const float sin_b = inside ? 0.0f : node.radius / std::sqrt(distance_squared);
-    const float distance = std::sqrt(distance_squared);
-    const glm::vec3 direction =
-        distance > 0.0f ? from_centre / distance : glm::vec3(0.0f, 0.0f, 0.0f);
+    const float sphere_sine = min_of(node.radius * inverse_distance, 1.0f);
+    const float sin_b = inside ? 0.0f : sphere_sine;
+    const float cos_b = inside ? -1.0f : detail::sine_of(sphere_sine);
     const float cos_w = glm::dot(node.axis, direction);
     const float sin_w = detail::sine_of(cos_w);
     const float cos_x =
@@ -89,9 +91,9 @@ RESTIR_HOST_DEVICE inline float light_importance(const LightBvhNode& node,
     const float sin_x =
         detail::sin_difference_clamped(sin_w, cos_w, node.sin_theta_o, node.cos_theta_o);
     const float cos_emitted = detail::cos_difference_clamped(sin_x, cos_x, sin_b, cos_b);
-    if (!(cos_emitted > node.cos_theta_e))
-        return 0.0f;
-    float importance = node.power * cos_emitted / max_of(distance_squared, radius_squared);
+    float importance = cos_emitted > node.cos_theta_e
+                           ? node.power * cos_emitted / max_of(distance_squared, radius_squared)
+                           : 0.0f;
     const bool has_normal = at.normal.x != 0.0f || at.normal.y != 0.0f || at.normal.z != 0.0f;
     if (has_normal) {
         const float cos_i = -glm::dot(at.normal, direction);
@@ -132,17 +134,14 @@ struct LightBvhView {
             const float p_first = first_child_probability(nodes[node], at);
             if (!(p_first >= 0.0f)) // both children unimportant (NaN)
                 return {};
-            const std::uint32_t first = nodes[node].child_or_light;
-            if (u < p_first) {
-                node = first;
-                pmf *= p_first;
-                u = u / p_first;
-            } else {
-                node = first + 1u;
-                pmf *= 1.0f - p_first;
-                u = (u - p_first) / (1.0f - p_first);
-            }
-            u = min_of(u, 0x1.fffffep-1f);
+            // The child as a select (a coin flip: a branch would mispredict half the time),
+            // and u rescaled to [0, 1) within the chosen interval.
+            const bool second = !(u < p_first);
+            const float start = second ? p_first : 0.0f;
+            const float width = second ? 1.0f - p_first : p_first;
+            node = nodes[node].child_or_light + (second ? 1u : 0u);
+            pmf *= width;
+            u = min_of((u - start) / width, 0x1.fffffep-1f);
         }
         if (count == 1u && !(light_importance(nodes[0], at) > 0.0f))
             return {};
