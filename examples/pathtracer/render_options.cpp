@@ -188,11 +188,14 @@ void add_light_sampling_options(CLI::App& app, RenderSettings& settings) {
                    "reuse, slightly biased: docs/noise-and-bias.md)");
     app.add_option("--source", settings.source,
                    "Candidate distribution of ris/restir: power or uniform (from light tiles), "
-                   "or bvh (by importance at the pixel's surface, a light BVH drawn per pixel: "
-                   "far better candidates, each costing more; lower --candidates)")
+                   "bvh (by importance at the pixel's surface, a light BVH drawn per pixel: "
+                   "far better candidates, each costing more; lower --candidates) or grid (by "
+                   "importance in the pixel's cell of a world-space grid, tiles per cell drawn "
+                   "from the light BVH every frame)")
         ->transform(names<CandidateSource>({{"power", CandidateSource::power},
                                             {"uniform", CandidateSource::uniform},
-                                            {"bvh", CandidateSource::bvh}}))
+                                            {"bvh", CandidateSource::bvh},
+                                            {"grid", CandidateSource::grid}}))
         ->default_str("power");
 }
 

@@ -209,7 +209,7 @@ struct Renderer::Impl {
                                  "' has no float power: too bright (lower its Ke) or too small");
         }
         light_table.build(powers);
-        if (settings.source == CandidateSource::bvh)
+        if (settings.source == CandidateSource::bvh || settings.source == CandidateSource::grid)
             build_light_bvh(powers);
         emitter_table.build(std::span<const float>(powers.data(), emitters.light_count()));
         if (!vpls.empty())
@@ -501,6 +501,8 @@ struct Renderer::Impl {
     void fill_tiles(std::uint32_t frame_index) {
         if (settings.source == CandidateSource::bvh)
             return; // candidates drawn per pixel
+        if (settings.source == CandidateSource::grid)
+            return fill_grid(frame_index);
         tile_planes.resize(std::size_t{tile_count} * tile_size * restir::tile_plane_count);
         tile_references.resize(std::size_t{tile_count} * tile_size);
         tiles = {tile_planes.data(), tile_references.data(), tile_count, tile_size};
@@ -523,17 +525,89 @@ struct Renderer::Impl {
         });
     }
 
-    // Batch RIS over candidates from the pixel block's tile (Alg. 3 of Bitterli et al. 2020, in
-    // blocks of 8 consecutive entries: sampling/ris_batch.hpp).
+    // --- ReGIR: a world-space grid of light tiles (--source grid) -----------------------------
+    // The scene's box in grid_resolution^3 cells. Every frame, each cell that a visible surface
+    // lies in gets a tile of lights drawn from the light BVH for the whole cell (a region: its
+    // centre and half diagonal, any normal), so that a candidate from it has the cell's pmf,
+    // positive for every light that reaches any point of the cell.
+    static constexpr std::uint32_t grid_resolution = 16;
+    static constexpr std::uint32_t grid_tile_size = 128; // a power of two
+    std::vector<float> grid_planes;
+    std::vector<restir::LightSampleRef> grid_references;
+    restir::LightTileArrays grid_tiles;
+    std::vector<std::uint32_t> used_cells;
+    SceneBounds grid_box; // the scene's box, set by fill_grid
+
+    std::uint32_t cell_of(glm::vec3 p) const {
+        const SceneBounds& box = grid_box;
+        const glm::vec3 t = (p - box.lower) / glm::max(box.upper - box.lower, glm::vec3(1e-30f)) *
+                            static_cast<float>(grid_resolution);
+        const auto clamped = [](float v) {
+            return std::min(grid_resolution - 1u, static_cast<std::uint32_t>(std::max(v, 0.0f)));
+        };
+        return clamped(t.x) + grid_resolution * (clamped(t.y) + grid_resolution * clamped(t.z));
+    }
+    restir::ShadingPoint cell_region(std::uint32_t cell) const {
+        const SceneBounds& box = grid_box;
+        const glm::vec3 size = (box.upper - box.lower) / static_cast<float>(grid_resolution);
+        const glm::vec3 index(static_cast<float>(cell % grid_resolution),
+                              static_cast<float>(cell / grid_resolution % grid_resolution),
+                              static_cast<float>(cell / (grid_resolution * grid_resolution)));
+        // 1 % more than the half diagonal, for points on the box's faces and rounding.
+        return {box.lower + (index + 0.5f) * size, glm::vec3(0.0f),
+                0.505f * glm::length(size) + ray_offset};
+    }
+    void fill_grid(std::uint32_t frame_index) {
+        constexpr std::uint32_t cells = grid_resolution * grid_resolution * grid_resolution;
+        grid_planes.resize(std::size_t{cells} * grid_tile_size * restir::tile_plane_count);
+        grid_references.resize(std::size_t{cells} * grid_tile_size);
+        grid_tiles = {grid_planes.data(), grid_references.data(), cells, grid_tile_size};
+        grid_box = bounds_of(scene);
+        std::vector<std::uint8_t> used(cells, 0u);
+        used_cells.clear();
+        for (const GSurface& s : surfaces)
+            if (s.valid && used[cell_of(s.position)]++ == 0u)
+                used_cells.push_back(cell_of(s.position));
+        const restir::LightBvhView bvh = light_bvh->view();
+        const auto entries = static_cast<std::uint32_t>(used_cells.size()) * grid_tile_size;
+        arena.execute([&] {
+            tbb::parallel_for(
+                tbb::blocked_range<std::uint32_t>(0u, entries, 64u),
+                [&](const tbb::blocked_range<std::uint32_t>& range) {
+                    for (std::uint32_t i = range.begin(); i < range.end(); ++i) {
+                        const std::uint32_t cell = used_cells[i / grid_tile_size];
+                        const std::uint32_t j = i % grid_tile_size;
+                        restir::Pcg32 rng =
+                            restir::make_pixel_rng(cell * grid_tile_size + j, frame_index,
+                                                   RenderStream::light_tiles, settings.seed);
+                        grid_tiles.store(
+                            cell, j, restir::presample_light(bvh, cell_region(cell), lights, rng),
+                            falloff);
+                    }
+                });
+        });
+    }
+
+    // RIS candidates for a pixel: from the light BVH (bvh), its cell's tile (grid), or its
+    // block's tile (power, uniform).
     Reservoir initial_reservoir(std::uint32_t x, std::uint32_t y, std::uint32_t frame_index,
                                 const GSurface& s, restir::Pcg32& rng) const {
         if (settings.source == CandidateSource::bvh)
             return bvh_reservoir(s, rng);
-        const std::uint32_t tile = tiles.tile_for(block_of(x, y), frame_index);
+        if (settings.source == CandidateSource::grid)
+            return tile_reservoir(grid_tiles, cell_of(s.position), grid_tile_size, s, rng);
+        return tile_reservoir(tiles, tiles.tile_for(block_of(x, y), frame_index), tile_size, s,
+                              rng);
+    }
+
+    // Batch RIS over candidates from tile `tile` of `from` (Alg. 3 of Bitterli et al. 2020, in
+    // blocks of 8 consecutive entries: sampling/ris_batch.hpp).
+    Reservoir tile_reservoir(const restir::LightTileArrays& from, std::uint32_t tile,
+                             std::uint32_t size, const GSurface& s, restir::Pcg32& rng) const {
         // Candidate blocks walk the tile's blocks from a random start with a random odd stride:
         // every candidate is a uniformly random entry (so its density is the entry's pdf), and
         // no block repeats within a pixel while there are enough of them.
-        constexpr std::uint32_t block_mask = tile_size / block_size - 1u;
+        const std::uint32_t block_mask = size / block_size - 1u;
         const std::uint32_t start = rng.next_uint();
         const std::uint32_t stride = rng.next_uint() | 1u;
         const glm::vec3 channel_weights = s.albedo * inv_pi;
@@ -542,9 +616,9 @@ struct Renderer::Impl {
             [&](std::uint32_t b, restir::CandidateBlock<block_size>& block) {
                 const std::uint32_t first = ((start + b * stride) & block_mask) * block_size;
                 return restir::evaluate_tile_block<block_size, target_norm>(
-                    tiles, tile, first, s.position, s.normal, channel_weights, block);
+                    from, tile, first, s.position, s.normal, channel_weights, block);
             });
-        return picked.with_sample(tiles.point_sample(picked.sample));
+        return picked.with_sample(from.point_sample(picked.sample));
     }
 
     // Streaming RIS over candidates drawn from the light BVH for the pixel's surface (the

@@ -624,24 +624,14 @@ Scene load_obj(const std::filesystem::path& path) {
     return read_obj(text, libraries, path.stem().string(), fail);
 }
 
-namespace {
-
-// The scene's bounding box (lower above upper when it has no vertices).
-struct Bounds {
-    glm::vec3 lower{std::numeric_limits<float>::max()};
-    glm::vec3 upper{std::numeric_limits<float>::lowest()};
-};
-
-Bounds bounds_of(const Scene& scene) {
-    Bounds bounds;
+SceneBounds bounds_of(const Scene& scene) {
+    SceneBounds bounds;
     for (const glm::vec3& position : scene.positions) {
         bounds.lower = glm::min(bounds.lower, position);
         bounds.upper = glm::max(bounds.upper, position);
     }
     return bounds;
 }
-
-} // namespace
 
 glm::vec3 Triangle::normal(glm::vec3 degenerate) const {
     const glm::vec3 n = normal_times_twice_area();

@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -106,6 +107,15 @@ Scene load_obj(const std::filesystem::path& path);
 /// The same from text in memory: `mtl_text` is what every `mtllib` of `obj_text` reads, and
 /// `name` appears in messages (for tests and fuzzing).
 Scene parse_obj(std::string_view obj_text, std::string_view mtl_text, const std::string& name);
+
+/// A bounding box (lower above upper when empty).
+struct SceneBounds {
+    glm::vec3 lower{std::numeric_limits<float>::max()};
+    glm::vec3 upper{std::numeric_limits<float>::lowest()};
+};
+
+/// The scene's bounding box (empty when it has no vertices).
+SceneBounds bounds_of(const Scene& scene);
 
 /// Length of the diagonal of the scene's bounding box (at least 1e-6): the scale of ray
 /// offsets and default radii.

@@ -166,6 +166,34 @@ TEST(LightBvh, RisWithBvhCandidatesIsUnbiasedAt1kLights) { check_ris_unbiased(10
 
 TEST(LightBvh, RisWithBvhCandidatesIsUnbiasedAt1MLights) { check_ris_unbiased(1u << 20u); }
 
+// A region (ShadingPoint::radius, a grid cell) gets a positive pmf for every point light that
+// lights any point of it, whatever that point's normal.
+TEST(LightBvh, RegionPmfCoversEveryPointOfTheRegion) {
+    const std::vector<TestLight> lights = test_lights(3000u, 31u);
+    std::vector<LightBounds> bounds;
+    for (const TestLight& l : lights)
+        bounds.push_back(restir::point_light_bounds(l.position, l.normal, l.power));
+    const restir::LightBvh bvh(bounds);
+    const restir::LightBvhView view = bvh.view();
+    restir::Pcg32 rng = restir::make_pixel_rng(4u, 0u, 0u, 32u);
+    for (int cell = 0; cell < 20; ++cell) {
+        const ShadingPoint region{
+            12.0f * glm::vec3(next_float(rng), next_float(rng), next_float(rng)) - glm::vec3(1.0f),
+            glm::vec3(0.0f), 0.25f + next_float(rng)};
+        std::vector<float> pmf(lights.size());
+        for (std::uint32_t id = 0; id < lights.size(); ++id)
+            pmf[id] = view.pmf(region, id);
+        for (int k = 0; k < 50; ++k) {
+            const glm::vec3 offset = random_direction(rng) * (region.radius * next_float(rng));
+            const ShadingPoint at{region.position + offset, random_direction(rng)};
+            for (std::uint32_t id = 0; id < lights.size(); ++id)
+                if (point_irradiance(lights[id], at) > 0.0f) {
+                    ASSERT_GT(pmf[id], 0.0f) << "cell " << cell << ", light " << id;
+                }
+        }
+    }
+}
+
 TEST(LightBvh, PointsNoLightReachesDrawNothing) {
     // Every light faces +z from z = 0: a point below them, or one facing away, sees none.
     std::vector<LightBounds> bounds;

@@ -197,34 +197,45 @@ TEST(Renderer, PackedHistoryGivesTheSameImages) {
     }
 }
 
-// Candidates drawn from the light BVH by their importance at each pixel (--source bvh) and in
-// proportion to power from light tiles estimate the same image: RIS's mean brightness agrees
-// within 4 standard errors measured over seeds, on the many-lights scene (direct light) and in
-// the Cornell box with VPLs; ReSTIR with BVH candidates agrees with them too.
-TEST(Renderer, BvhCandidatesEstimateTheSameImage) {
+// Candidates drawn from the light BVH by their importance at each pixel (--source bvh), from
+// tiles per grid cell drawn from it (--source grid), and in proportion to power from light
+// tiles estimate the same image: the mean brightness agrees within 4 standard errors measured
+// over seeds, for RIS and ReSTIR, on the many-lights scene (direct light) and in the Cornell
+// box with VPLs.
+TEST(Renderer, BvhAndGridCandidatesEstimateTheSameImage) {
     const pt::Scene scenes[2] = {pt::make_many_lights(300, 3u), pt::make_cornell_box()};
+    struct Run {
+        Method method;
+        pt::CandidateSource source;
+        const char* name;
+    };
+    const Run runs[5] = {{Method::ris, pt::CandidateSource::power, "ris power"},
+                         {Method::ris, pt::CandidateSource::bvh, "ris bvh"},
+                         {Method::ris, pt::CandidateSource::grid, "ris grid"},
+                         {Method::restir, pt::CandidateSource::bvh, "restir bvh"},
+                         {Method::restir, pt::CandidateSource::grid, "restir grid"}};
     for (const pt::Scene& scene : scenes) {
         pt::RenderSettings s = tiny(scene, 32);
         s.gi = scene.name == "cornell" ? GlobalIllumination::vpl : GlobalIllumination::none;
         s.candidates = 16;
-        restir::test::RunningStats brightness[3];
+        restir::test::RunningStats brightness[5];
         for (std::uint64_t seed = 1; seed <= 8; ++seed)
-            for (int k = 0; k < 3; ++k) {
-                s.method = k == 2 ? Method::restir : Method::ris;
-                s.source = k == 0 ? pt::CandidateSource::power : pt::CandidateSource::bvh;
+            for (int k = 0; k < 5; ++k) {
+                s.method = runs[k].method;
+                s.source = runs[k].source;
                 s.seed = seed;
                 double sum = 0.0;
                 for (const glm::vec3& p : render(scene, s, 4).pixels)
                     sum += static_cast<double>(p.x + p.y + p.z);
                 brightness[k].add(sum);
             }
-        for (int k = 1; k < 3; ++k) {
+        for (int k = 1; k < 5; ++k) {
             const double difference = std::abs(brightness[k].mean() - brightness[0].mean());
             const double error =
                 std::sqrt(brightness[0].variance() / 8.0 + brightness[k].variance() / 8.0);
             EXPECT_LT(difference, 4.0 * error)
-                << scene.name << ": power " << brightness[0].mean() << ", bvh "
-                << brightness[k].mean() << (k == 2 ? " (restir)" : " (ris)");
+                << scene.name << ": power " << brightness[0].mean() << ", " << runs[k].name << " "
+                << brightness[k].mean();
         }
     }
 }

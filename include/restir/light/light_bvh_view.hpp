@@ -70,18 +70,23 @@ RESTIR_HOST_DEVICE inline float sine_of(float cosine) noexcept {
 /// theta_b) with theta_w between the cone axis and the direction to the point (0 when
 /// theta' >= theta_e: no light of the node reaches the point), and theta'_i = max(0, theta_i -
 /// theta_b) with theta_i between the receiver normal and the direction to the centre (no
-/// receiver term for a zero normal). Never 0 where a light of the node lights the point.
+/// receiver term for a zero normal). Never 0 where a light of the node lights the point (any
+/// point of a region `at`).
 RESTIR_HOST_DEVICE inline float light_importance(const LightBvhNode& node,
                                                  const ShadingPoint& at) noexcept {
     // Selects rather than branches throughout: the outcomes vary from node to node.
+    // For a region (at.radius > 0) the node's sphere grows by the region's radius: every
+    // direction from a point of the region to a point of the node lies within theta_b of the
+    // direction between their centres.
+    const float radius = node.radius + max_of(at.radius, 0.0f);
     const glm::vec3 from_centre = at.position - node.centre;
     const float distance_squared = glm::dot(from_centre, from_centre);
-    const float radius_squared = node.radius * node.radius;
-    const float inverse_distance = distance_squared > 0.0f ? 1.0f / std::sqrt(distance_squared)
-                                                           : 0.0f;
+    const float radius_squared = radius * radius;
+    const float inverse_distance =
+        distance_squared > 0.0f ? 1.0f / std::sqrt(distance_squared) : 0.0f;
     const glm::vec3 direction = from_centre * inverse_distance;
     const bool inside = distance_squared <= radius_squared;
-    const float sphere_sine = min_of(node.radius * inverse_distance, 1.0f);
+    const float sphere_sine = min_of(radius * inverse_distance, 1.0f);
     const float sin_b = inside ? 0.0f : sphere_sine;
     const float cos_b = inside ? -1.0f : detail::sine_of(sphere_sine);
     const float cos_w = glm::dot(node.axis, direction);
