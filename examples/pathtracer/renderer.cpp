@@ -531,7 +531,7 @@ struct Renderer::Impl {
     // centre and half diagonal, any normal), so that a candidate from it has the cell's pmf,
     // positive for every light that reaches any point of the cell.
     static constexpr std::uint32_t grid_resolution = 16;
-    static constexpr std::uint32_t grid_tile_size = 128; // a power of two
+    static constexpr std::uint32_t grid_tile_size = 64; // a power of two
     std::vector<float> grid_planes;
     std::vector<restir::LightSampleRef> grid_references;
     restir::LightTileArrays grid_tiles;
