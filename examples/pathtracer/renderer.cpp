@@ -526,17 +526,21 @@ struct Renderer::Impl {
     }
 
     // --- ReGIR: a world-space grid of light tiles (--source grid) -----------------------------
-    // The scene's box in grid_resolution^3 cells. Every frame, each cell that a visible surface
-    // lies in gets a tile of lights drawn from the light BVH for the whole cell (a region: its
-    // centre and half diagonal, any normal), so that a candidate from it has the cell's pmf,
-    // positive for every light that reaches any point of the cell.
+    // The scene's box in grid_resolution^3 cells. Every frame each pixel looks its cell up at
+    // its surface moved by a random offset of up to half a cell along each axis (without it,
+    // every pixel of a cell shared one tile's error and the cells showed as blocks), and each
+    // cell looked up gets a tile of lights drawn from the light BVH for every point whose
+    // lookup can land in it (a region: its centre, its full diagonal as the radius, any
+    // normal), so that a candidate from it has a pmf positive for every light that reaches the
+    // pixel.
     static constexpr std::uint32_t grid_resolution = 16;
     static constexpr std::uint32_t grid_tile_size = 64; // a power of two
     std::vector<float> grid_planes;
     std::vector<restir::LightSampleRef> grid_references;
     restir::LightTileArrays grid_tiles;
     std::vector<std::uint32_t> used_cells;
-    SceneBounds grid_box; // the scene's box, set by fill_grid
+    std::vector<std::uint32_t> pixel_cells; // each pixel's cell this frame
+    SceneBounds grid_box;                   // the scene's box, set by fill_grid
 
     std::uint32_t cell_of(glm::vec3 p) const {
         const SceneBounds& box = grid_box;
@@ -553,9 +557,9 @@ struct Renderer::Impl {
         const glm::vec3 index(static_cast<float>(cell % grid_resolution),
                               static_cast<float>(cell / grid_resolution % grid_resolution),
                               static_cast<float>(cell / (grid_resolution * grid_resolution)));
-        // 1 % more than the half diagonal, for points on the box's faces and rounding.
+        // 1 % more than the diagonal, for points on the box's faces and rounding.
         return {box.lower + (index + 0.5f) * size, glm::vec3(0.0f),
-                0.505f * glm::length(size) + ray_offset};
+                1.01f * glm::length(size) + ray_offset};
     }
     void fill_grid(std::uint32_t frame_index) {
         constexpr std::uint32_t cells = grid_resolution * grid_resolution * grid_resolution;
@@ -565,9 +569,22 @@ struct Renderer::Impl {
         grid_box = bounds_of(scene);
         std::vector<std::uint8_t> used(cells, 0u);
         used_cells.clear();
-        for (const GSurface& s : surfaces)
-            if (s.valid && used[cell_of(s.position)]++ == 0u)
-                used_cells.push_back(cell_of(s.position));
+        pixel_cells.assign(surfaces.size(), 0u);
+        const glm::vec3 cell_size =
+            (grid_box.upper - grid_box.lower) / static_cast<float>(grid_resolution);
+        for (std::uint32_t i = 0; i < surfaces.size(); ++i) {
+            if (!surfaces[i].valid)
+                continue;
+            restir::Pcg32 rng =
+                restir::make_pixel_rng(i, frame_index, RenderStream::grid_jitter, settings.seed);
+            const float u = next_float(rng), v = next_float(rng), w = next_float(rng);
+            pixel_cells[i] =
+                cell_of(surfaces[i].position + (glm::vec3(u, v, w) - 0.5f) * cell_size);
+            if (used[pixel_cells[i]] == 0u) {
+                used[pixel_cells[i]] = 1u;
+                used_cells.push_back(pixel_cells[i]);
+            }
+        }
         const restir::LightBvhView bvh = light_bvh->view();
         const auto entries = static_cast<std::uint32_t>(used_cells.size()) * grid_tile_size;
         arena.execute([&] {
@@ -595,7 +612,8 @@ struct Renderer::Impl {
         if (settings.source == CandidateSource::bvh)
             return bvh_reservoir(s, rng);
         if (settings.source == CandidateSource::grid)
-            return tile_reservoir(grid_tiles, cell_of(s.position), grid_tile_size, s, rng);
+            return tile_reservoir(grid_tiles, pixel_cells[x + y * settings.width], grid_tile_size,
+                                  s, rng);
         return tile_reservoir(tiles, tiles.tile_for(block_of(x, y), frame_index), tile_size, s,
                               rng);
     }

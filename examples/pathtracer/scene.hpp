@@ -26,6 +26,7 @@ struct RenderStream {
     static constexpr std::uint32_t light_tiles = pixel_jitter + 2u;
     static constexpr std::uint32_t path = pixel_jitter + 3u;         ///< path-traced indirect light
     static constexpr std::uint32_t scene_layout = pixel_jitter + 4u; ///< many-light scene
+    static constexpr std::uint32_t grid_jitter = pixel_jitter + 5u;  ///< --source grid lookups
 };
 
 /// A diffuse material: reflectance and emitted radiance (both linear RGB).

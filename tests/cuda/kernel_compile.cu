@@ -139,6 +139,22 @@ __global__ void tile_kernel(restir::PresampledLight* entries, const glm::vec3* e
     out[i] = r.with_sample(e.reference).contribution_weight;
 }
 
+// Spatially aware candidates: a draw and a pmf from the light BVH at a shading point, and a
+// grid cell's tile entry drawn for a region (ReGIR).
+__global__ void light_bvh_kernel(restir::LightBvhView bvh, const glm::vec3* emitters,
+                                 restir::PresampledLight* cell_entries, float* out) {
+    const auto i = static_cast<std::uint32_t>(blockIdx.x * blockDim.x + threadIdx.x);
+    restir::Pcg32 rng = restir::make_pixel_rng(i, 0u, restir::RngStream::application);
+    const restir::ShadingPoint at{glm::vec3(static_cast<float>(i), 1.0f, 0.0f),
+                                  glm::vec3(0.0f, 1.0f, 0.0f)};
+    const restir::SourceSample<restir::LightSampleRef> c =
+        restir::draw_light_candidate(bvh, at, rng);
+    const restir::ShadingPoint cell{at.position, glm::vec3(0.0f), 0.5f};
+    const PointEmitters lights{emitters, bvh.light_count()};
+    cell_entries[i] = restir::presample_light(bvh, cell, lights, rng);
+    out[i] = c.pdf + bvh.pmf(at, c.sample.light_id);
+}
+
 // Batch RIS over structure-of-arrays tiles, with reservoirs that carry their light point:
 // the tile fill, the block evaluation, the selection, the point sample and its visibility.
 struct NeverOccluded {

@@ -21,7 +21,6 @@
 
 #include <cmath>
 #include <cstdint>
-#include <limits>
 #include <type_traits>
 
 namespace restir {
@@ -137,7 +136,7 @@ struct LightBvhView {
             if (depth == levels_per_number)
                 u = u1;
             const float p_first = first_child_probability(nodes[node], at);
-            if (!(p_first >= 0.0f)) // both children unimportant (NaN)
+            if (!(p_first >= 0.0f)) // both children unimportant
                 return {};
             // The child as a select (a coin flip: a branch would mispredict half the time),
             // and u rescaled to [0, 1) within the chosen interval.
@@ -176,14 +175,14 @@ struct LightBvhView {
     }
 
 private:
-    // The probability of descending into the first child of interior node `parent`; NaN when
+    // The probability of descending into the first child of interior node `parent`; -1 when
     // neither child can light `at`.
     RESTIR_HOST_DEVICE float first_child_probability(const LightBvhNode& parent,
                                                      const ShadingPoint& at) const {
         const float first = light_importance(nodes[parent.child_or_light], at);
         const float second = light_importance(nodes[parent.child_or_light + 1u], at);
         const float total = first + second;
-        return total > 0.0f ? first / total : std::numeric_limits<float>::quiet_NaN();
+        return total > 0.0f ? first / total : -1.0f;
     }
 };
 
