@@ -37,6 +37,7 @@
 
 #include <concepts>
 #include <cstdint>
+#include <type_traits>
 
 namespace restir {
 
@@ -191,45 +192,32 @@ requires(std::same_as<History, ImageView<const Reservoir<Sample>>> ||
     RESTIR_HOST_DEVICE auto temporal_input(PixelCoord pixel,
                                            const MaterialTest& material_test = {}) const {
         const TemporalParams t = temporal_params();
+        std::conditional_t<loads_history, LoadedInput, ReuseInput<Sample, S>> input{};
+        if (!has_history())
+            return input;
+        const auto& here = surface_at(surfaces, pixel);
+        if (!is_valid_surface(here))
+            return input;
+        const PixelCoord p = history_pixel(reproject(pixel), t);
         if constexpr (history_has_surfaces) {
-            LoadedInput input{};
-            if (!has_history())
-                return input;
-            const auto& here = surface_at(surfaces, pixel);
-            if (!is_valid_surface(here))
-                return input;
-            const PixelCoord p = history_pixel(reproject(pixel), t);
-            if (!history.contains(p))
-                return input;
-            input.reservoir = history.load(p);
-            input.surface = history.surface(p);
-            input.lends = input.reservoir.is_well_formed() &&
-                          surfaces_similar(here, input.surface, t.similarity, material_test);
-            return input;
+            if (history.contains(p)) {
+                input.reservoir = history.load(p);
+                input.surface = history.surface(p);
+                input.lends = input.reservoir.is_well_formed() &&
+                              surfaces_similar(here, input.surface, t.similarity, material_test);
+            }
         } else if constexpr (loads_history) {
-            LoadedInput input{};
-            if (!has_history())
-                return input;
-            const auto& here = surface_at(surfaces, pixel);
-            if (!is_valid_surface(here))
-                return input;
-            const PixelCoord p = history_pixel(reproject(pixel), t);
-            if (!history.contains(p) || !previous_surfaces.contains(p))
-                return input;
-            input.reservoir = history.load(p);
-            if (input.reservoir.is_well_formed() &&
-                surfaces_similar(here, previous_surfaces[p], t.similarity, material_test))
-                input.surface = &previous_surfaces[p];
-            return input;
+            if (history.contains(p) && previous_surfaces.contains(p)) {
+                input.reservoir = history.load(p);
+                if (input.reservoir.is_well_formed() &&
+                    surfaces_similar(here, previous_surfaces[p], t.similarity, material_test))
+                    input.surface = &previous_surfaces[p];
+            }
         } else {
-            if (!has_history())
-                return ReuseInput<Sample, S>{};
-            const auto& here = surface_at(surfaces, pixel);
-            if (!is_valid_surface(here))
-                return ReuseInput<Sample, S>{};
-            return reusable_input(history_pixel(reproject(pixel), t), here, history,
-                                  previous_surfaces, t.similarity, material_test);
+            input =
+                reusable_input(p, here, history, previous_surfaces, t.similarity, material_test);
         }
+        return input;
     }
 
     /// `temporal_combine` for a history input loaded by value.
