@@ -190,8 +190,8 @@ void add_light_sampling_options(CLI::App& app, RenderSettings& settings) {
                    "Candidate distribution of ris/restir: power or uniform (from light tiles), "
                    "bvh (by importance at the pixel's surface, a light BVH drawn per pixel: "
                    "far better candidates, each costing more; lower --candidates) or grid (by "
-                   "importance in the pixel's cell of a world-space grid, tiles per cell drawn "
-                   "from the light BVH every frame)")
+                   "importance in the pixel's cell of a world-space grid, tiles per cell "
+                   "resampled from power-proportional candidates every frame)")
         ->transform(names<CandidateSource>({{"power", CandidateSource::power},
                                             {"uniform", CandidateSource::uniform},
                                             {"bvh", CandidateSource::bvh},

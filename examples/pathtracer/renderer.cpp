@@ -97,10 +97,11 @@ struct Renderer::Impl {
     double photon_ms = 0.0;                       // time of the last photon shooting
     std::optional<std::uint32_t> photons_per_set; // from the pilot pass of the first set
     Unified lights;
-    restir::AliasTable light_table;            // unified: emitters + VPLs, by power
-    restir::AliasTable emitter_table;          // emitters only, by power (path tracing NEE)
-    restir::AliasTable vpl_table;              // VPLs only, by power (reference VPL NEE)
-    std::optional<restir::LightBvh> light_bvh; // unified, by importance (--source bvh)
+    restir::AliasTable light_table;                // unified: emitters + VPLs, by power
+    restir::AliasTable emitter_table;              // emitters only, by power (path tracing NEE)
+    restir::AliasTable vpl_table;                  // VPLs only, by power (reference VPL NEE)
+    std::optional<restir::LightBvh> light_bvh;     // unified, by importance (--source bvh)
+    std::vector<restir::LightBvhNode> light_nodes; // each light's bounds (--source grid)
     restir::NeighbourOffsets offsets = restir::make_neighbour_offsets();
 
     std::vector<GSurface> surfaces, previous_surfaces;
@@ -210,15 +211,16 @@ struct Renderer::Impl {
         }
         light_table.build(powers);
         if (settings.source == CandidateSource::bvh || settings.source == CandidateSource::grid)
-            build_light_bvh(powers);
+            build_light_bounds(powers);
         emitter_table.build(std::span<const float>(powers.data(), emitters.light_count()));
         if (!vpls.empty())
             vpl_table.build(
                 std::span<const float>(powers.data() + emitters.light_count(), vpls.size()));
     }
 
-    // The light BVH over the unified set: emitters as area lights, VPLs as cosine emitters.
-    void build_light_bvh(const std::vector<float>& powers) {
+    // The unified set's emission bounds (emitters as area lights, VPLs as cosine emitters):
+    // the light BVH over them (bvh), or each light's own (grid).
+    void build_light_bounds(const std::vector<float>& powers) {
         std::vector<restir::LightBounds> bounds;
         bounds.reserve(powers.size());
         for (std::uint32_t e = 0; e < emitters.light_count(); ++e)
@@ -226,7 +228,14 @@ struct Renderer::Impl {
         for (std::uint32_t v = 0; v < vpls.size(); ++v)
             bounds.push_back(restir::point_light_bounds(vpls[v].position, vpls[v].normal,
                                                         powers[emitters.light_count() + v]));
-        light_bvh.emplace(bounds);
+        if (settings.source == CandidateSource::bvh) {
+            light_bvh.emplace(bounds);
+            return;
+        }
+        light_nodes.clear();
+        light_nodes.reserve(bounds.size());
+        for (const restir::LightBounds& b : bounds)
+            light_nodes.push_back(restir::light_bvh_node(b));
     }
 
     // --- Light at a surface: contribution, p-hat and visibility ---------------------------
@@ -529,12 +538,13 @@ struct Renderer::Impl {
     // The scene's box in grid_resolution^3 cells. Every frame each pixel looks its cell up at
     // its surface moved by a random offset of up to half a cell along each axis (without it,
     // every pixel of a cell shared one tile's error and the cells showed as blocks), and each
-    // cell looked up gets a tile of lights drawn from the light BVH for every point whose
-    // lookup can land in it (a region: its centre, its full diagonal as the radius, any
-    // normal), so that a candidate from it has a pmf positive for every light that reaches the
-    // pixel.
+    // cell looked up gets a tile of lights resampled for every point whose lookup can land in
+    // it (a region: its centre, its full diagonal as the radius, any normal; `grid_entry`), so
+    // that a candidate from it can be any light that reaches the pixel. (Entries drawn from the
+    // light BVH for the region instead cost more and gave more error: docs/performance.md.)
     static constexpr std::uint32_t grid_resolution = 16;
-    static constexpr std::uint32_t grid_tile_size = 64; // a power of two
+    static constexpr std::uint32_t grid_tile_size = 64;      // a power of two
+    static constexpr std::uint32_t grid_fill_candidates = 4; // per tile entry
     std::vector<float> grid_planes;
     std::vector<restir::LightSampleRef> grid_references;
     restir::LightTileArrays grid_tiles;
@@ -585,24 +595,37 @@ struct Renderer::Impl {
                 used_cells.push_back(pixel_cells[i]);
             }
         }
-        const restir::LightBvhView bvh = light_bvh->view();
         const auto entries = static_cast<std::uint32_t>(used_cells.size()) * grid_tile_size;
         arena.execute([&] {
-            tbb::parallel_for(
-                tbb::blocked_range<std::uint32_t>(0u, entries, 64u),
-                [&](const tbb::blocked_range<std::uint32_t>& range) {
-                    for (std::uint32_t i = range.begin(); i < range.end(); ++i) {
-                        const std::uint32_t cell = used_cells[i / grid_tile_size];
-                        const std::uint32_t j = i % grid_tile_size;
-                        restir::Pcg32 rng =
-                            restir::make_pixel_rng(cell * grid_tile_size + j, frame_index,
-                                                   RenderStream::light_tiles, settings.seed);
-                        grid_tiles.store(
-                            cell, j, restir::presample_light(bvh, cell_region(cell), lights, rng),
-                            falloff);
-                    }
-                });
+            tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0u, entries, 64u),
+                              [&](const tbb::blocked_range<std::uint32_t>& range) {
+                                  for (std::uint32_t i = range.begin(); i < range.end(); ++i) {
+                                      const std::uint32_t cell = used_cells[i / grid_tile_size];
+                                      const std::uint32_t j = i % grid_tile_size;
+                                      restir::Pcg32 rng = restir::make_pixel_rng(
+                                          cell * grid_tile_size + j, frame_index,
+                                          RenderStream::light_tiles, settings.seed);
+                                      grid_tiles.store(cell, j, grid_entry(cell, rng), falloff);
+                                  }
+                              });
         });
+    }
+
+    // One entry of a cell's tile: RIS over power-proportional candidates with the lights'
+    // importance bounds at the cell's region as the target, its contribution weight W standing
+    // for the entry's 1 / pdf (an unbiased contribution weight may replace 1 / p in RIS: Lin et
+    // al. 2022, GRIS). Positive wherever a light reaches a point of the region.
+    restir::PresampledLight grid_entry(std::uint32_t cell, restir::Pcg32& rng) const {
+        const restir::ShadingPoint region = cell_region(cell);
+        const restir::PowerLightSampler power{light_table.view()};
+        const auto r = restir::resample_ris(
+            rng, grid_fill_candidates,
+            [&](restir::Pcg32& g) { return restir::draw_light_candidate(power, g); },
+            [&](const restir::LightSampleRef& x) {
+                return restir::light_importance(light_nodes[x.light_id], region);
+            });
+        const bool usable = r.has_sample() && r.contribution_weight > 0.0f;
+        return restir::presampled({r.sample, usable ? 1.0f / r.contribution_weight : 0.0f}, lights);
     }
 
     // RIS candidates for a pixel: from the light BVH (bvh), its cell's tile (grid), or its

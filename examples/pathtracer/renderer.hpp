@@ -27,7 +27,7 @@ enum class GlobalIllumination {
 /// Where RIS candidates come from: lights in proportion to their power (from light tiles), or
 /// uniformly (from light tiles), or by their importance at the pixel's surface (a light BVH,
 /// drawn per pixel), or by their importance in the pixel's cell of a world-space grid (tiles
-/// per cell presampled from the light BVH every frame, ReGIR).
+/// per cell resampled from power-proportional candidates every frame, ReGIR).
 enum class CandidateSource { power, uniform, bvh, grid };
 /// A still camera, or one that turns about its look-at point a little every frame.
 enum class CameraMotion { none, orbit };

@@ -98,6 +98,20 @@ inline LightBounds merge_light_bounds(const LightBounds& a, const LightBounds& b
     return merged;
 }
 
+/// The node of a group of lights with bounds `b` (a leaf's, for one light): what
+/// `light_importance` weighs.
+inline LightBvhNode light_bvh_node(const LightBounds& b) {
+    LightBvhNode node;
+    node.centre = 0.5f * (b.lower + b.upper);
+    node.radius = 0.5f * glm::length(b.upper - b.lower);
+    node.axis = b.axis;
+    node.cos_theta_o = b.cos_theta_o;
+    node.sin_theta_o = detail::sine_of(b.cos_theta_o);
+    node.cos_theta_e = b.cos_theta_e;
+    node.power = b.power;
+    return node;
+}
+
 /// The host-built tree over a list of lights (light id = index in the list). Splits every node
 /// at the median of its lights' centres along their widest axis: 2 n - 1 nodes, depth
 /// ceil(log2 n). Throws std::invalid_argument for more than 2^31 lights or a light with a
@@ -138,25 +152,13 @@ private:
         return true;
     }
 
-    static LightBvhNode node_of(const LightBounds& b) {
-        LightBvhNode node;
-        node.centre = 0.5f * (b.lower + b.upper);
-        node.radius = 0.5f * glm::length(b.upper - b.lower);
-        node.axis = b.axis;
-        node.cos_theta_o = b.cos_theta_o;
-        node.sin_theta_o = detail::sine_of(b.cos_theta_o);
-        node.cos_theta_e = b.cos_theta_e;
-        node.power = b.power;
-        return node;
-    }
-
     // Builds node `index` over order[begin, end), at `depth` with `path` from the root, and
     // returns its bounds.
     LightBounds build(std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end,
                       std::uint32_t index, std::uint32_t depth, std::uint64_t path) {
         if (end - begin == 1u) {
             const std::uint32_t id = order[begin];
-            nodes_[index] = node_of(lights_[id]);
+            nodes_[index] = light_bvh_node(lights_[id]);
             nodes_[index].child_or_light = LightBvhNode::leaf_bit | id;
             paths_[id] = path | (std::uint64_t{depth} << LightBvhView::depth_shift);
             return lights_[id];
@@ -173,7 +175,7 @@ private:
         const LightBounds bounds = merge_light_bounds(
             build(order, begin, middle, first, depth + 1u, path),
             build(order, middle, end, first + 1u, depth + 1u, path | (std::uint64_t{1} << depth)));
-        nodes_[index] = node_of(bounds);
+        nodes_[index] = light_bvh_node(bounds);
         nodes_[index].child_or_light = first;
         return bounds;
     }
