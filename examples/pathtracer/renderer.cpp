@@ -550,7 +550,7 @@ struct Renderer::Impl {
     restir::LightTileArrays grid_tiles;
     std::vector<std::uint32_t> used_cells;
     std::vector<std::uint32_t> pixel_cells; // each pixel's cell this frame
-    SceneBounds grid_box;                   // the scene's box, set by fill_grid
+    SceneBounds grid_box;                   // the scene's box, found by the first fill_grid
 
     std::uint32_t cell_of(glm::vec3 p) const {
         const SceneBounds& box = grid_box;
@@ -576,7 +576,8 @@ struct Renderer::Impl {
         grid_planes.resize(std::size_t{cells} * grid_tile_size * restir::tile_plane_count);
         grid_references.resize(std::size_t{cells} * grid_tile_size);
         grid_tiles = {grid_planes.data(), grid_references.data(), cells, grid_tile_size};
-        grid_box = bounds_of(scene);
+        if (grid_box.lower.x > grid_box.upper.x) // the scene does not change: read it once
+            grid_box = bounds_of(scene);
         std::vector<std::uint8_t> used(cells, 0u);
         used_cells.clear();
         pixel_cells.assign(surfaces.size(), 0u);
@@ -1219,8 +1220,8 @@ std::uint64_t estimated_memory_bytes(const RenderSettings& settings, bool with_r
     const std::uint64_t per_pixel =
         (settings.method == Method::restir ? 384u : 192u) + (with_reference ? 48u : 0u);
     const std::uint64_t vpls = settings.gi == GlobalIllumination::vpl ? settings.vpls : 0u;
-    // The light BVH of bvh and grid: 124 bytes more per VPL measured at 1M VPLs; the grid's
-    // tiles: 16^3 cells of 64 entries.
+    // bvh's light tree: 124 bytes more per VPL measured at 1M VPLs (grid's per-light nodes
+    // need less); the grid's tiles: 16^3 cells of 64 entries.
     const bool bvh =
         settings.source == CandidateSource::bvh || settings.source == CandidateSource::grid;
     const std::uint64_t grid = settings.source == CandidateSource::grid ? 16u << 20u : 0u;
