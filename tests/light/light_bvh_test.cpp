@@ -4,8 +4,10 @@
 #include "restir/light/light_bvh.hpp"
 
 #include "restir/core/rng.hpp"
+#include "restir/sampling/alias_table.hpp"
 #include "restir/sampling/light_candidates.hpp"
 #include "restir/sampling/light_sampler.hpp"
+#include "restir/sampling/light_tiles.hpp"
 #include "restir/sampling/ris.hpp"
 
 #include "support/chi2.hpp"
@@ -244,10 +246,52 @@ TEST(LightBvh, RejectsLightsWithBadPowerOrPosition) {
 }
 
 TEST(LightBvh, PowerAndUniformSamplersIgnoreTheShadingPoint) {
+    const std::vector<float> powers = {1.0f, 3.0f, 0.5f, 2.0f};
+    const restir::AliasTable table(powers);
+    const restir::PowerLightSampler power{table.view()};
     const restir::UniformLightSampler uniform{10u};
     const ShadingPoint at{glm::vec3(1.0f), glm::vec3(0.0f, 1.0f, 0.0f)};
-    EXPECT_EQ(uniform.sample(at, 0.25f, 0.5f).index, uniform.sample(0.25f, 0.5f).index);
+    for (const float u : {0.0f, 0.25f, 0.6f, 0.99f}) {
+        EXPECT_EQ(uniform.sample(at, u, 0.5f).index, uniform.sample(u, 0.5f).index);
+        EXPECT_EQ(power.sample(at, u, 0.5f).index, power.sample(u, 0.5f).index);
+        EXPECT_EQ(power.sample(at, u, 0.5f).pmf, power.sample(u, 0.5f).pmf);
+    }
     EXPECT_EQ(uniform.pmf(at, 3u), uniform.pmf(3u));
+    EXPECT_EQ(power.pmf(at, 1u), power.pmf(1u));
+}
+
+// A tile entry presampled for a region (ReGIR) carries the light the BVH drew with its pmf at
+// that region, and the light's evaluated point.
+TEST(LightBvh, PresampledEntriesCarryThePmfAtTheirRegion) {
+    const std::vector<TestLight> lights = test_lights(500u, 41u);
+    std::vector<LightBounds> bounds;
+    for (const TestLight& l : lights)
+        bounds.push_back(restir::point_light_bounds(l.position, l.normal, l.power));
+    const restir::LightBvh bvh(bounds);
+    const restir::LightBvhView view = bvh.view();
+    struct Points { // restir::LightSet over the test lights
+        const std::vector<TestLight>* lights;
+        std::uint32_t light_count() const { return static_cast<std::uint32_t>(lights->size()); }
+        restir::LightSample sample_point(std::uint32_t id, glm::vec2) const {
+            restir::LightSample s;
+            s.position = (*lights)[id].position;
+            s.normal = (*lights)[id].normal;
+            s.radiance = glm::vec3((*lights)[id].power);
+            s.is_delta = true;
+            return s;
+        }
+    };
+    const Points set{&lights};
+    const ShadingPoint region{glm::vec3(5.0f), glm::vec3(0.0f), 1.5f};
+    restir::Pcg32 rng = restir::make_pixel_rng(5u, 0u, 0u, 42u);
+    for (int i = 0; i < 200; ++i) {
+        const restir::PresampledLight entry = restir::presample_light(view, region, set, rng);
+        if (!(entry.pdf > 0.0f))
+            continue;
+        const std::uint32_t id = entry.reference.light_id;
+        ASSERT_EQ(entry.pdf, view.pmf(region, id));
+        ASSERT_EQ(entry.point.position, lights[id].position);
+    }
 }
 
 } // namespace
