@@ -1,0 +1,726 @@
+// The ReSTIR DI pipeline of restir-render as CUDA kernels over a 1920 x 1080 G-buffer of the
+// Cornell box, with VPLs shot on the GPU: each pass timed with CUDA events (median over the
+// timed frames), the same passes run on the CPU with the same inputs, and their results
+// compared pixel by pixel. Built by scripts/test.sh when nvcc is found; run it on a GPU with
+//   bash scripts/gpu-benchmark.sh                 (or build/cuda/di_pipeline --help)
+// Without a GPU, --cpu-only runs the CPU passes alone (and writes the image).
+#include "cornell_gpu.hpp"
+
+#include <cuda_runtime.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace {
+
+using box::Context;
+using box::Pass;
+
+// --- Options --------------------------------------------------------------------------------
+
+struct Options {
+    std::uint32_t width = 1920, height = 1080;
+    std::uint32_t frames = 100;     // timed GPU frames
+    std::uint32_t warmup = 10;      // GPU frames before them
+    std::uint32_t check_frames = 4; // first frames, run on both and compared pass by pass
+    std::uint32_t vpls = 100'000;   // about this many VPLs
+    std::uint32_t threads = 0;      // CPU threads (0: all)
+    std::string layout = "both";    // plain | packed | both
+    bool mis_rays = false;          // pairwise MIS with traced visibility (restir-render's)
+    bool cpu_only = false;
+    std::string image; // PPM of the last frame
+};
+
+[[noreturn]] void usage(const char* message) {
+    if (message != nullptr)
+        std::fprintf(stderr, "di_pipeline: %s\n", message);
+    std::fprintf(stderr,
+                 "usage: di_pipeline [--width N] [--height N] [--frames N] [--warmup N]\n"
+                 "                   [--check-frames N] [--vpls N] [--threads N]\n"
+                 "                   [--layout plain|packed|both] [--mis-rays] [--cpu-only]\n"
+                 "                   [--image FILE.ppm]\n");
+    std::exit(message != nullptr ? 2 : 0);
+}
+
+std::uint32_t parse_count(const char* text, std::uint32_t low, std::uint32_t high) {
+    char* end = nullptr;
+    const unsigned long long v = std::strtoull(text, &end, 10);
+    if (end == text || *end != '\0' || v < low || v > high) {
+        static std::string message;
+        message = std::string("'") + text + "' is not a whole number in [" + std::to_string(low) +
+                  ", " + std::to_string(high) + "]";
+        usage(message.c_str());
+    }
+    return static_cast<std::uint32_t>(v);
+}
+
+Options parse(int argc, char** argv) {
+    Options o;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        const auto value = [&]() -> const char* {
+            if (i + 1 >= argc)
+                usage((a + " needs a value").c_str());
+            return argv[++i];
+        };
+        if (a == "--help" || a == "-h")
+            usage(nullptr);
+        else if (a == "--width")
+            o.width = parse_count(value(), 8, 8192);
+        else if (a == "--height")
+            o.height = parse_count(value(), 8, 8192);
+        else if (a == "--frames")
+            o.frames = parse_count(value(), 1, 100000);
+        else if (a == "--warmup")
+            o.warmup = parse_count(value(), 0, 100000);
+        else if (a == "--check-frames")
+            o.check_frames = parse_count(value(), 0, 1000);
+        else if (a == "--vpls")
+            o.vpls = parse_count(value(), 0, 10'000'000);
+        else if (a == "--threads")
+            o.threads = parse_count(value(), 1, 1024);
+        else if (a == "--layout") {
+            o.layout = value();
+            if (o.layout != "plain" && o.layout != "packed" && o.layout != "both")
+                usage("--layout takes plain, packed or both");
+        } else if (a == "--mis-rays")
+            o.mis_rays = true;
+        else if (a == "--cpu-only")
+            o.cpu_only = true;
+        else if (a == "--image")
+            o.image = value();
+        else
+            usage(("unknown option " + a).c_str());
+    }
+    return o;
+}
+
+// --- CUDA helpers ---------------------------------------------------------------------------
+
+void check_cuda(cudaError_t status, const char* what) {
+    if (status != cudaSuccess) {
+        std::fprintf(stderr, "di_pipeline: %s: %s\n", what, cudaGetErrorString(status));
+        std::exit(1);
+    }
+}
+
+template <class T>
+T* device_alloc(std::size_t n) {
+    T* p = nullptr;
+    check_cuda(cudaMalloc(&p, std::max<std::size_t>(n, 1) * sizeof(T)), "cudaMalloc");
+    return p;
+}
+template <class T>
+T* upload(const std::vector<T>& host) {
+    T* p = device_alloc<T>(host.size());
+    check_cuda(cudaMemcpy(p, host.data(), host.size() * sizeof(T), cudaMemcpyHostToDevice),
+               "upload");
+    return p;
+}
+template <class T>
+void download(T* host, const T* device, std::size_t n) {
+    check_cuda(cudaMemcpy(host, device, n * sizeof(T), cudaMemcpyDeviceToHost), "download");
+}
+
+double median(std::vector<double> v) {
+    if (v.empty())
+        return 0.0;
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// --- Passes on both sides -------------------------------------------------------------------
+
+// The items a pass covers: pixels, or the light tiles' entries as one row.
+RESTIR_HOST_DEVICE std::uint32_t items_x(Pass p, const Context& c) {
+    return p == Pass::tiles ? c.tiles.tile_count * c.tiles.tile_size : c.width;
+}
+RESTIR_HOST_DEVICE std::uint32_t items_y(Pass p, const Context& c) {
+    return p == Pass::tiles ? 1u : c.height;
+}
+
+template <Pass P, class Frame>
+__global__ void pass_kernel(Context c) {
+    const std::uint32_t x = blockIdx.x * blockDim.x + threadIdx.x;
+    const std::uint32_t y = blockIdx.y * blockDim.y + threadIdx.y;
+    if (x < items_x(P, c) && y < items_y(P, c))
+        box::run_item<P, Frame>(c, x, y);
+}
+
+template <Pass P, class Frame>
+void launch(const Context& c) {
+    const dim3 block = P == Pass::tiles ? dim3(256, 1) : dim3(16, 8);
+    const dim3 grid((items_x(P, c) + block.x - 1) / block.x,
+                    (items_y(P, c) + block.y - 1) / block.y);
+    pass_kernel<P, Frame><<<grid, block>>>(c);
+}
+
+template <Pass P, class Frame>
+void run_cpu(const Context& c, std::uint32_t threads) {
+    const std::uint32_t w = items_x(P, c), h = items_y(P, c);
+    // Rows (pixels) or runs of entries (tiles), interleaved over the threads.
+    const std::uint32_t chunks = h > 1u ? h : (w + 255u) / 256u;
+    std::vector<std::thread> pool;
+    for (std::uint32_t t = 0; t < threads; ++t)
+        pool.emplace_back([&, t] {
+            for (std::uint32_t k = t; k < chunks; k += threads) {
+                if (h > 1u) {
+                    for (std::uint32_t x = 0; x < w; ++x)
+                        box::run_item<P, Frame>(c, x, k);
+                } else {
+                    for (std::uint32_t x = k * 256u; x < std::min(w, k * 256u + 256u); ++x)
+                        box::run_item<P, Frame>(c, x, 0u);
+                }
+            }
+        });
+    for (std::thread& t : pool)
+        t.join();
+}
+
+// Pass `p` on the GPU (launch) or the CPU, for the layout of `c`.
+template <class Frame>
+void dispatch(Pass p, const Context& c, bool gpu, std::uint32_t threads) {
+#define RESTIR_PASS(P)                                                                             \
+    case P:                                                                                        \
+        return gpu ? launch<P, Frame>(c) : run_cpu<P, Frame>(c, threads);
+    switch (p) {
+        RESTIR_PASS(Pass::gbuffer)
+        RESTIR_PASS(Pass::tiles)
+        RESTIR_PASS(Pass::candidates)
+        RESTIR_PASS(Pass::visibility)
+        RESTIR_PASS(Pass::temporal)
+        RESTIR_PASS(Pass::spatial)
+        RESTIR_PASS(Pass::final_visibility)
+        RESTIR_PASS(Pass::shading)
+    default:
+        return;
+    }
+#undef RESTIR_PASS
+}
+void run_pass(Pass p, const Context& c, bool gpu, std::uint32_t threads) {
+    if (c.packed)
+        dispatch<box::PackedFrame>(p, c, gpu, threads);
+    else
+        dispatch<box::PlainFrame>(p, c, gpu, threads);
+}
+
+// The passes of a frame: with ray-free reuse (deferred visibility) stage 1's rays go in a
+// pass of their own; with traced MIS rays the candidates pass traces them.
+std::vector<Pass> frame_passes(const Context& c) {
+    std::vector<Pass> passes = {Pass::gbuffer, Pass::tiles, Pass::candidates};
+    if (c.params.deferred_visibility)
+        passes.push_back(Pass::visibility);
+    for (const Pass p : {Pass::temporal, Pass::spatial, Pass::final_visibility, Pass::shading})
+        passes.push_back(p);
+    return passes;
+}
+
+// --- Buffers --------------------------------------------------------------------------------
+
+// The per-frame buffers of one side, and the context pointing at them.
+struct HostBuffers {
+    std::vector<box::Texel> surfaces, previous_surfaces;
+    std::vector<box::Reservoir> current, scratch, history;
+    std::vector<box::Packed> packed_history;
+    std::vector<glm::vec3> image;
+    std::vector<float> planes;
+    std::vector<restir::LightSampleRef> references;
+    void allocate(std::size_t pixels, std::size_t entries) {
+        surfaces.assign(pixels, {});
+        previous_surfaces.assign(pixels, {});
+        current.assign(pixels, {});
+        scratch.assign(pixels, {});
+        history.assign(pixels, {});
+        packed_history.assign(pixels, {});
+        image.assign(pixels, glm::vec3(0.0f));
+        planes.assign(entries * restir::tile_plane_count, 0.0f);
+        references.assign(entries, {});
+    }
+    void point(Context& c) {
+        c.surfaces = surfaces.data();
+        c.previous_surfaces = previous_surfaces.data();
+        c.current = current.data();
+        c.scratch = scratch.data();
+        c.history = history.data();
+        c.packed_history = packed_history.data();
+        c.image = image.data();
+        c.tiles.planes = planes.data();
+        c.tiles.references = references.data();
+    }
+};
+
+void point_device(Context& c, std::size_t pixels, std::size_t entries) {
+    c.surfaces = device_alloc<box::Texel>(pixels);
+    c.previous_surfaces = device_alloc<box::Texel>(pixels);
+    c.current = device_alloc<box::Reservoir>(pixels);
+    c.scratch = device_alloc<box::Reservoir>(pixels);
+    c.history = device_alloc<box::Reservoir>(pixels);
+    c.packed_history = device_alloc<box::Packed>(pixels);
+    c.image = device_alloc<glm::vec3>(pixels);
+    c.tiles.planes = device_alloc<float>(entries * restir::tile_plane_count);
+    c.tiles.references = device_alloc<restir::LightSampleRef>(entries);
+}
+
+// Next frame's view of the buffers: this frame's G-buffer becomes last frame's, and (plain
+// layout) the final reservoirs the history.
+void end_frame(Context& c) {
+    std::swap(c.surfaces, c.previous_surfaces);
+    if (!c.packed)
+        std::swap(c.current, c.history);
+}
+void begin_frame(Context& c, std::uint32_t frame) {
+    c.frame = frame;
+    c.has_history = frame > 0u;
+    c.camera = box::camera_of_frame(frame, c.width, c.height);
+    c.previous_camera = box::camera_of_frame(frame > 0u ? frame - 1u : 0u, c.width, c.height);
+}
+
+// --- Comparison -----------------------------------------------------------------------------
+
+// Mismatches between the CPU's and the GPU's output of one pass.
+struct Agreement {
+    std::uint64_t items = 0, mismatches = 0, identical = 0;
+    double max_relative = 0.0;
+    void add(bool same_bits, bool agrees, double relative) {
+        ++items;
+        identical += same_bits ? 1u : 0u;
+        mismatches += agrees ? 0u : 1u;
+        max_relative = std::max(max_relative, relative);
+    }
+};
+
+// Float tolerance: relative 1e-5 (above `floor`, absolute 1e-5 floor).
+constexpr double tolerance = 1e-5;
+double relative_difference(float a, float b, double floor = 0.0) {
+    const double d = std::fabs(static_cast<double>(a) - static_cast<double>(b));
+    const double scale = std::max(
+        {std::fabs(static_cast<double>(a)), std::fabs(static_cast<double>(b)), floor, 1e-30});
+    return d == 0.0 ? 0.0 : d / scale;
+}
+double relative_difference(glm::vec3 a, glm::vec3 b, double floor = 0.0) {
+    return std::max({relative_difference(a.x, b.x, floor), relative_difference(a.y, b.y, floor),
+                     relative_difference(a.z, b.z, floor)});
+}
+
+bool same_bits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+bool same_bits(glm::vec3 a, glm::vec3 b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+void compare_item(Agreement& agreement, const box::Reservoir& cpu, const box::Reservoir& gpu) {
+    // Field by field: the sample's padding bytes are not part of the result.
+    const bool same = cpu.sample.light_id == gpu.sample.light_id &&
+                      same_bits(cpu.sample.position, gpu.sample.position) &&
+                      same_bits(cpu.sample.normal, gpu.sample.normal) &&
+                      same_bits(cpu.sample.intensity, gpu.sample.intensity) &&
+                      same_bits(cpu.sample.falloff, gpu.sample.falloff) &&
+                      same_bits(cpu.weight_sum, gpu.weight_sum) &&
+                      same_bits(cpu.target_value, gpu.target_value) &&
+                      same_bits(cpu.contribution_weight, gpu.contribution_weight) &&
+                      cpu.candidate_count == gpu.candidate_count;
+    const double relative =
+        std::max({relative_difference(cpu.contribution_weight, gpu.contribution_weight),
+                  relative_difference(cpu.target_value, gpu.target_value),
+                  relative_difference(cpu.weight_sum, gpu.weight_sum),
+                  relative_difference(cpu.sample.position, gpu.sample.position, 1.0)});
+    agreement.add(same,
+                  cpu.sample.light_id == gpu.sample.light_id &&
+                      cpu.candidate_count == gpu.candidate_count && relative <= tolerance,
+                  relative);
+}
+void compare_item(Agreement& agreement, const box::Texel& cpu, const box::Texel& gpu) {
+    const double relative = std::max({relative_difference(cpu.position, gpu.position, 1.0),
+                                      relative_difference(cpu.normal, gpu.normal, 1.0),
+                                      relative_difference(cpu.depth, gpu.depth, 1.0)});
+    agreement.add(std::memcmp(&cpu, &gpu, sizeof(cpu)) == 0,
+                  cpu.material == gpu.material && relative <= tolerance, relative);
+}
+void compare_item(Agreement& agreement, glm::vec3 cpu, glm::vec3 gpu) {
+    const double relative = relative_difference(cpu, gpu, 1e-3);
+    agreement.add(std::memcmp(&cpu, &gpu, sizeof(cpu)) == 0, relative <= tolerance, relative);
+}
+void compare_item(Agreement& agreement, const box::Packed& cpu, const box::Packed& gpu) {
+    const double relative =
+        std::max({relative_difference(cpu.contribution_weight, gpu.contribution_weight),
+                  relative_difference(cpu.target_value, gpu.target_value),
+                  relative_difference(cpu.position, gpu.position, 1.0)});
+    agreement.add(std::memcmp(&cpu, &gpu, sizeof(cpu)) == 0,
+                  cpu.light_id == gpu.light_id && cpu.candidate_count == gpu.candidate_count &&
+                      relative <= tolerance,
+                  relative);
+}
+
+// Downloads the GPU's `device` buffer, compares it with the CPU's `host`, then makes the CPU's
+// copy the GPU's (so that the next pass starts from the same input on both).
+template <class T>
+void settle(Agreement& agreement, T* host, const T* device, std::size_t n,
+            std::vector<T>& scratch) {
+    scratch.resize(n);
+    download(scratch.data(), device, n);
+    for (std::size_t i = 0; i < n; ++i)
+        compare_item(agreement, host[i], scratch[i]);
+    std::copy(scratch.begin(), scratch.end(), host);
+}
+
+struct Comparison {
+    Agreement passes[box::pass_count];
+    std::vector<box::Texel> texels;
+    std::vector<box::Reservoir> reservoirs;
+    std::vector<box::Packed> packed;
+    std::vector<glm::vec3> colors;
+    std::vector<float> planes;
+
+    // The outputs of pass `p`: CPU's in `h`, GPU's in `d`.
+    void pass(Pass p, const Context& h, const Context& d) {
+        Agreement& a = passes[static_cast<std::uint32_t>(p)];
+        const std::size_t pixels = std::size_t{h.width} * h.height;
+        switch (p) {
+        case Pass::gbuffer:
+            settle(a, h.surfaces, d.surfaces, pixels, texels);
+            break;
+        case Pass::tiles: {
+            const std::size_t floats = h.tiles.plane_float_count();
+            planes.resize(floats);
+            download(planes.data(), d.tiles.planes, floats);
+            for (std::size_t i = 0; i < floats; ++i) {
+                const double r = relative_difference(h.tiles.planes[i], planes[i], 1e-3);
+                a.add(std::memcmp(&h.tiles.planes[i], &planes[i], 4) == 0, r <= tolerance, r);
+            }
+            std::copy(planes.begin(), planes.end(), h.tiles.planes);
+            std::vector<restir::LightSampleRef> refs(h.tiles.tile_count * h.tiles.tile_size);
+            download(refs.data(), d.tiles.references, refs.size());
+            for (std::size_t i = 0; i < refs.size(); ++i) {
+                const bool same = refs[i].light_id == h.tiles.references[i].light_id &&
+                                  refs[i].uv == h.tiles.references[i].uv;
+                a.add(same, same, same ? 0.0 : 1.0);
+            }
+            std::copy(refs.begin(), refs.end(), h.tiles.references);
+            break;
+        }
+        case Pass::temporal:
+            settle(a, h.scratch, d.scratch, pixels, reservoirs);
+            break;
+        case Pass::shading:
+            settle(a, h.image, d.image, pixels, colors);
+            if (h.packed)
+                settle(a, h.packed_history, d.packed_history, pixels, packed);
+            break;
+        default:
+            settle(a, h.current, d.current, pixels, reservoirs);
+            break;
+        }
+    }
+};
+
+// --- Photons --------------------------------------------------------------------------------
+
+constexpr std::uint32_t photon_bounces = 8; // restir-render's
+
+__global__ void photon_kernel(restir::PhotonSource source, restir::PhotonParams params,
+                              const box::Scene* scene, restir::Vpl* out, std::uint32_t* counts) {
+    const std::uint32_t photon = blockIdx.x * blockDim.x + threadIdx.x;
+    if (photon < params.photon_count)
+        counts[photon] = restir::trace_photon(photon, source, *scene, box::Lambertian{}, params,
+                                              out + std::size_t{photon} * params.max_bounces);
+}
+
+// VPLs of `params.photon_count` photons shot on the GPU, in photon order (as shoot_photons
+// returns them); `ms` gets the kernel's time.
+std::vector<restir::Vpl> shoot_on_gpu(const restir::PhotonEmitters& emitters,
+                                      restir::PhotonParams params, const box::Scene* scene,
+                                      float& ms) {
+    const std::vector<restir::AliasEntry> entries(emitters.table().entries().begin(),
+                                                  emitters.table().entries().end());
+    restir::EmitterPoint* points = upload(emitters.points());
+    restir::AliasEntry* table = upload(entries);
+    restir::Vpl* slots =
+        device_alloc<restir::Vpl>(std::size_t{params.photon_count} * params.max_bounces);
+    std::uint32_t* counts = device_alloc<std::uint32_t>(params.photon_count);
+    cudaEvent_t start, stop;
+    cudaEventCreate(&start);
+    cudaEventCreate(&stop);
+    cudaEventRecord(start);
+    photon_kernel<<<(params.photon_count + 127) / 128, 128>>>(
+        {points, {table, emitters.table().size()}}, params, scene, slots, counts);
+    cudaEventRecord(stop);
+    check_cuda(cudaEventSynchronize(stop), "photon kernel");
+    cudaEventElapsedTime(&ms, start, stop);
+    std::vector<restir::Vpl> all(std::size_t{params.photon_count} * params.max_bounces);
+    std::vector<std::uint32_t> n(params.photon_count);
+    download(all.data(), slots, all.size());
+    download(n.data(), counts, n.size());
+    std::vector<restir::Vpl> vpls;
+    for (std::uint32_t p = 0; p < params.photon_count; ++p)
+        for (std::uint32_t b = 0; b < n[p]; ++b)
+            vpls.push_back(all[std::size_t{p} * params.max_bounces + b]);
+    cudaFree(points);
+    cudaFree(table);
+    cudaFree(slots);
+    cudaFree(counts);
+    cudaEventDestroy(start);
+    cudaEventDestroy(stop);
+    return vpls;
+}
+
+// --- Output ---------------------------------------------------------------------------------
+
+void write_ppm(const std::string& path, const std::vector<glm::vec3>& image, std::uint32_t w,
+               std::uint32_t h) {
+    std::FILE* f = std::fopen(path.c_str(), "wb");
+    if (f == nullptr) {
+        std::fprintf(stderr, "di_pipeline: cannot write %s\n", path.c_str());
+        std::exit(1);
+    }
+    std::fprintf(f, "P6\n%u %u\n255\n", w, h);
+    std::vector<unsigned char> row(std::size_t{w} * 3);
+    for (std::uint32_t y = 0; y < h; ++y) {
+        for (std::uint32_t x = 0; x < w; ++x)
+            for (int k = 0; k < 3; ++k) {
+                const float v = std::pow(std::clamp(image[x + y * w][k], 0.0f, 1.0f), 1.0f / 2.2f);
+                row[x * 3 + static_cast<std::uint32_t>(k)] =
+                    static_cast<unsigned char>(std::lround(255.0f * v));
+            }
+        std::fwrite(row.data(), 1, row.size(), f);
+    }
+    std::fclose(f);
+    std::printf("wrote %s\n", path.c_str());
+}
+
+// Bytes a pass reads and writes per pixel at the least (each record once), by layout.
+double record_bytes(Pass p, bool packed) {
+    const double texel = sizeof(box::Texel), reservoir = sizeof(box::Reservoir);
+    const double stored = packed ? sizeof(box::Packed) : reservoir;
+    switch (p) {
+    case Pass::gbuffer:
+        return texel;
+    case Pass::candidates:
+        return texel + reservoir;
+    case Pass::visibility:
+    case Pass::final_visibility:
+        return texel + 2 * reservoir;
+    case Pass::temporal:
+        return 2 * texel + 2 * reservoir + stored; // here + history
+    case Pass::spatial:
+        return texel + 2 * reservoir;
+    case Pass::shading:
+        return texel + reservoir + sizeof(glm::vec3) + (packed ? stored : 0.0);
+    default:
+        return 0.0;
+    }
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    const Options o = parse(argc, argv);
+    const std::uint32_t threads =
+        o.threads > 0 ? o.threads : std::max(1u, std::thread::hardware_concurrency());
+    const std::size_t pixels = std::size_t{o.width} * o.height;
+    const std::size_t entries = std::size_t{box::tile_count} * box::tile_size;
+
+    // The scene, its emitters and the camera's extent, on the host.
+    const box::Scene scene = box::make_scene();
+    const std::vector<box::Emitter> emitters = box::make_emitters(scene);
+    const box::Emitters host_emitters{emitters.data(), static_cast<std::uint32_t>(emitters.size())};
+    const float extent = glm::length(glm::vec3(556.0f, 548.8f, 559.2f)); // the box's diagonal
+    const restir::Falloff falloff = restir::Falloff::yuksel(0.02f * extent);
+
+    int devices = 0;
+    const bool gpu = !o.cpu_only && cudaGetDeviceCount(&devices) == cudaSuccess && devices > 0;
+    if (!o.cpu_only && !gpu) {
+        std::fprintf(stderr, "di_pipeline: no CUDA device (use --cpu-only to run the CPU passes "
+                             "alone)\n");
+        return 1;
+    }
+    if (gpu) {
+        cudaDeviceProp prop{};
+        cudaGetDeviceProperties(&prop, 0);
+        std::printf("device: %s, %d SMs; CPU: %u threads\n", prop.name, prop.multiProcessorCount,
+                    threads);
+    }
+
+    // Photons: a pilot of 4096 photons sets the count for about `vpls` VPLs (as restir-render).
+    restir::PhotonParams photons = restir::default_photon_params();
+    photons.max_bounces = photon_bounces;
+    photons.ray_offset = 1e-4f * extent;
+    photons.seed = 1u;
+    const restir::PhotonEmitters photon_emitters(host_emitters, photons.points_per_emitter,
+                                                 photons.seed);
+    box::Scene* device_scene = nullptr;
+    float photon_ms = 0.0f;
+    const auto shoot = [&](std::uint32_t count) {
+        photons.photon_count = count;
+        if (gpu)
+            return shoot_on_gpu(photon_emitters, photons, device_scene, photon_ms);
+        return restir::shoot_photons(host_emitters, scene, box::Lambertian{}, photons);
+    };
+    if (gpu)
+        device_scene = upload(std::vector<box::Scene>{scene});
+    std::vector<restir::Vpl> vpls;
+    if (o.vpls > 0) {
+        const double per_photon = static_cast<double>(shoot(4096).size()) / 4096.0;
+        vpls = shoot(static_cast<std::uint32_t>(std::ceil(o.vpls / std::max(per_photon, 1e-3))));
+    }
+    std::printf("VPLs: %zu from %u photons (%.3f ms on the %s)\n", vpls.size(),
+                photons.photon_count, static_cast<double>(photon_ms), gpu ? "GPU" : "CPU");
+
+    // The light set and its power table.
+    const box::Lights host_lights{&host_emitters, vpls.data(),
+                                  static_cast<std::uint32_t>(vpls.size())};
+    const restir::AliasTable table(restir::unified_light_powers(host_lights));
+    const std::vector<restir::AliasEntry> table_entries(table.entries().begin(),
+                                                        table.entries().end());
+
+    Context base;
+    base.width = o.width;
+    base.height = o.height;
+    base.params = box::recipe_params(o.height, o.mis_rays);
+    base.offsets = restir::make_neighbour_offsets();
+    base.falloff = falloff;
+    base.ray_offset = 1e-4f * extent;
+    base.tiles.tile_count = box::tile_count;
+    base.tiles.tile_size = box::tile_size;
+
+    // The CPU side.
+    HostBuffers host;
+    host.allocate(pixels, entries);
+    Context h = base;
+    h.scene = &scene;
+    h.lights = host_lights;
+    h.power = table.view();
+    host.point(h);
+
+    // The GPU side: the same inputs in device memory.
+    Context d = base;
+    if (gpu) {
+        d.scene = device_scene;
+        box::Emitters device_emitters{upload(emitters), host_emitters.count};
+        d.lights = {upload(std::vector<box::Emitters>{device_emitters}), upload(vpls),
+                    host_lights.vpl_count};
+        d.power = {upload(table_entries), table.size()};
+        point_device(d, pixels, entries);
+    }
+
+    std::vector<std::string> layouts;
+    if (o.layout != "packed")
+        layouts.push_back("plain");
+    if (o.layout != "plain")
+        layouts.push_back("packed");
+
+    bool all_agree = true;
+    for (const std::string& layout : layouts) {
+        const bool packed = layout == "packed";
+        h.packed = d.packed = packed;
+        const std::vector<Pass> passes = frame_passes(h);
+        std::printf(
+            "\n== %s history (%zu B a pixel), %s reuse, %ux%u, %u candidates, %zu "
+            "lights\n",
+            packed ? "packed" : "plain", packed ? sizeof(box::Packed) : sizeof(box::Reservoir),
+            o.mis_rays ? "pairwise MIS with traced visibility in" : "pairwise MIS, ray-free",
+            o.width, o.height, h.candidates, host_lights.light_count() + std::size_t{0});
+
+        std::vector<double> cpu_ms[box::pass_count], gpu_ms[box::pass_count], gpu_frame_ms;
+        Comparison comparison;
+        const std::uint32_t cpu_frames = o.cpu_only ? o.frames : (gpu ? o.check_frames : 0u);
+        const std::uint32_t total = gpu ? o.check_frames + o.warmup + o.frames : o.frames;
+        cudaEvent_t events[box::pass_count + 1];
+        if (gpu)
+            for (cudaEvent_t& e : events)
+                cudaEventCreate(&e);
+        for (std::uint32_t frame = 0; frame < total; ++frame) {
+            begin_frame(h, frame);
+            begin_frame(d, frame);
+            const bool on_cpu = frame < cpu_frames;
+            const bool timed_gpu = gpu && frame >= o.check_frames + o.warmup;
+            for (std::size_t k = 0; k < passes.size(); ++k) {
+                const Pass p = passes[k];
+                if (gpu) {
+                    if (timed_gpu)
+                        cudaEventRecord(events[k]);
+                    run_pass(p, d, true, threads);
+                    if (!timed_gpu)
+                        check_cuda(cudaDeviceSynchronize(), box::pass_name(p));
+                }
+                if (on_cpu) {
+                    const auto start = std::chrono::steady_clock::now();
+                    run_pass(p, h, false, threads);
+                    const double ms = std::chrono::duration<double, std::milli>(
+                                          std::chrono::steady_clock::now() - start)
+                                          .count();
+                    if (frame > 0u) // frame 0 has no history, and warms the caches
+                        cpu_ms[static_cast<std::uint32_t>(p)].push_back(ms);
+                    if (gpu)
+                        comparison.pass(p, h, d);
+                }
+            }
+            if (timed_gpu) {
+                cudaEventRecord(events[passes.size()]);
+                check_cuda(cudaEventSynchronize(events[passes.size()]), "frame");
+                float frame_ms = 0.0f;
+                for (std::size_t k = 0; k < passes.size(); ++k) {
+                    float ms = 0.0f;
+                    cudaEventElapsedTime(&ms, events[k], events[k + 1]);
+                    gpu_ms[static_cast<std::uint32_t>(passes[k])].push_back(ms);
+                    if (!box::is_ray_pass(passes[k]))
+                        frame_ms += ms;
+                }
+                gpu_frame_ms.push_back(frame_ms);
+            }
+            end_frame(h);
+            end_frame(d);
+        }
+
+        // The table: per pass, GPU median, CPU median, their ratio, bytes, agreement.
+        std::printf("%-34s %10s %10s %8s %12s %12s %s\n", "pass", "GPU ms", "CPU ms", "CPU/GPU",
+                    "records B/px", "Gcand/s", "GPU = CPU");
+        double gpu_sum = 0.0, cpu_sum = 0.0;
+        for (const Pass p : passes) {
+            const std::uint32_t k = static_cast<std::uint32_t>(p);
+            const double g = median(gpu_ms[k]), c = median(cpu_ms[k]);
+            if (!box::is_ray_pass(p)) {
+                gpu_sum += g;
+                cpu_sum += c;
+            }
+            char rate[32] = "";
+            if (p == Pass::candidates && g > 0.0)
+                std::snprintf(rate, sizeof rate, "%.1f",
+                              static_cast<double>(pixels) * h.candidates / (g * 1e6));
+            const Agreement& a = comparison.passes[k];
+            char agree[96] = "-";
+            if (a.items > 0) {
+                std::snprintf(agree, sizeof agree, "%llu/%llu bit-identical, %llu over 1e-5",
+                              static_cast<unsigned long long>(a.identical),
+                              static_cast<unsigned long long>(a.items),
+                              static_cast<unsigned long long>(a.mismatches));
+                all_agree = all_agree && a.mismatches == 0;
+            }
+            std::printf("%-34s %10.3f %10.3f %8.1f %12.0f %12s %s\n", box::pass_name(p), g, c,
+                        g > 0.0 ? c / g : 0.0, record_bytes(p, packed), rate, agree);
+        }
+        std::printf("%-34s %10.3f %10.3f %8.1f   (median frame on the GPU: %.3f ms)\n",
+                    "library passes (no analytic rays)", gpu_sum, cpu_sum,
+                    gpu_sum > 0.0 ? cpu_sum / gpu_sum : 0.0, median(gpu_frame_ms));
+        if (gpu)
+            for (cudaEvent_t& e : events)
+                cudaEventDestroy(e);
+        if (!o.image.empty() && layout == layouts.back()) {
+            if (gpu)
+                download(host.image.data(), d.image, pixels);
+            write_ppm(o.image, host.image, o.width, o.height);
+        }
+    }
+    if (gpu) {
+        std::printf("\nGPU and CPU %s (relative tolerance %.0e per float)\n",
+                    all_agree ? "agree on every checked item" : "DISAGREE", tolerance);
+        if (!all_agree)
+            return 1;
+    }
+    return 0;
+}
