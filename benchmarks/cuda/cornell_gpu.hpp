@@ -382,6 +382,12 @@ struct Context {
     Reservoir* history = nullptr;       // last frame's final reservoirs (plain layout)
     Packed* packed_history = nullptr;   // the same, packed (written by shading)
     glm::vec3* image = nullptr;
+    // This frame's recipe in both layouts, built once per frame (`build_recipes`) and read
+    // where the context lives: in a kernel's parameters. (A recipe built inside the kernel
+    // copied its 512-byte offset table to every thread's local memory: 728 bytes of stack,
+    // and the spatial pass wrote 590 bytes a pixel to DRAM.)
+    PlainFrame plain_recipe{};
+    PackedFrame packed_recipe{};
 
     RESTIR_HOST_DEVICE restir::PixelCoord pixel(std::uint32_t x, std::uint32_t y) const {
         return {static_cast<std::int32_t>(x), static_cast<std::int32_t>(y)};
@@ -394,7 +400,18 @@ struct Context {
         return {Target{}, visibility()};
     }
     template <class Frame>
-    RESTIR_HOST_DEVICE Frame frame_recipe() const {
+    RESTIR_HOST_DEVICE const Frame& recipe() const {
+        if constexpr (Frame::loads_history)
+            return packed_recipe;
+        else
+            return plain_recipe;
+    }
+    void build_recipes() {
+        plain_recipe = frame_recipe<PlainFrame>();
+        packed_recipe = frame_recipe<PackedFrame>();
+    }
+    template <class Frame>
+    Frame frame_recipe() const {
         Frame f{.params = params,
                 .frame_index = frame,
                 .surfaces = {surfaces, width, height},
@@ -460,7 +477,7 @@ RESTIR_HOST_DEVICE void candidates_pixel(const Context& c, std::uint32_t x, std:
                 return restir::evaluate_tile_block<block_size, target_norm>(
                     c.tiles, tile, first, s.position, s.normal, channel_weights, block);
             });
-        r = c.frame_recipe<Frame>().initial(
+        r = c.recipe<Frame>().initial(
             c.pixel(x, y), picked.with_sample(c.tiles.point_sample(picked.sample)), c.visibility());
     }
     c.current[i] = r;
@@ -471,7 +488,7 @@ RESTIR_HOST_DEVICE void candidates_pixel(const Context& c, std::uint32_t x, std:
 template <class Frame>
 RESTIR_HOST_DEVICE void visibility_pixel(const Context& c, std::uint32_t x, std::uint32_t y) {
     const std::uint32_t i = x + y * c.width;
-    if (c.frame_recipe<Frame>().needs_visibility_test(c.current[i]))
+    if (c.recipe<Frame>().needs_visibility_test(c.current[i]))
         restir::apply_visibility(c.current[i], c.surfaces[i], c.visibility());
 }
 
@@ -481,7 +498,7 @@ RESTIR_HOST_DEVICE void temporal_pixel(const Context& c, std::uint32_t x, std::u
     Reservoir r = c.current[i];
     if (is_valid_surface(c.surfaces[i])) {
         restir::Pcg32 rng = restir::make_pixel_rng(i, c.frame, restir::RngStream::temporal, c.seed);
-        r = c.frame_recipe<Frame>().temporal(c.pixel(x, y), r, c.bridge(), rng);
+        r = c.recipe<Frame>().temporal(c.pixel(x, y), r, c.bridge(), rng);
     }
     c.scratch[i] = r;
 }
@@ -490,8 +507,8 @@ template <class Frame>
 RESTIR_HOST_DEVICE void spatial_pixel(const Context& c, std::uint32_t x, std::uint32_t y) {
     const std::uint32_t i = x + y * c.width;
     restir::Pcg32 rng = restir::make_pixel_rng(i, c.frame, restir::RngStream::spatial, c.seed);
-    c.current[i] = c.frame_recipe<Frame>().spatial(c.pixel(x, y), 0u,
-                                                   {c.scratch, c.width, c.height}, c.bridge(), rng);
+    c.current[i] = c.recipe<Frame>().spatial(c.pixel(x, y), 0u, {c.scratch, c.width, c.height},
+                                             c.bridge(), rng);
 }
 
 // Shading: emission plus f(y) W, unshadowed (the final visibility pass zeroed W of occluded

@@ -36,7 +36,8 @@ struct Options {
     std::string layout = "both";    // plain | packed | both
     bool mis_rays = false;          // pairwise MIS with traced visibility (restir-render's)
     bool cpu_only = false;
-    std::string image; // PPM of the last frame
+    std::string image;                       // PPM of the last frame
+    std::uint32_t block_x = 16, block_y = 8; // threads per CUDA block of the pixel passes
 };
 
 [[noreturn]] void usage(const char* message) {
@@ -46,7 +47,7 @@ struct Options {
                  "usage: di_pipeline [--width N] [--height N] [--frames N] [--warmup N]\n"
                  "                   [--check-frames N] [--vpls N] [--threads N]\n"
                  "                   [--layout plain|packed|both] [--mis-rays] [--cpu-only]\n"
-                 "                   [--image FILE.ppm]\n");
+                 "                   [--image FILE.ppm] [--block WxH]\n");
     std::exit(message != nullptr ? 2 : 0);
 }
 
@@ -97,7 +98,16 @@ Options parse(int argc, char** argv) {
             o.cpu_only = true;
         else if (a == "--image")
             o.image = value();
-        else
+        else if (a == "--block") {
+            const std::string v = value();
+            const std::size_t x = v.find('x');
+            if (x == std::string::npos)
+                usage("--block takes WxH, for example 8x8");
+            o.block_x = parse_count(v.substr(0, x).c_str(), 1, 1024);
+            o.block_y = parse_count(v.substr(x + 1).c_str(), 1, 1024);
+            if (o.block_x * o.block_y > 1024)
+                usage("--block: at most 1024 threads");
+        } else
             usage(("unknown option " + a).c_str());
     }
     return o;
@@ -156,9 +166,11 @@ __global__ void pass_kernel(Context c) {
         box::run_item<P, Frame>(c, x, y);
 }
 
+dim3 pixel_block(16, 8); // --block
+
 template <Pass P, class Frame>
 void launch(const Context& c) {
-    const dim3 block = P == Pass::tiles ? dim3(256, 1) : dim3(16, 8);
+    const dim3 block = P == Pass::tiles ? dim3(256, 1) : pixel_block;
     const dim3 grid((items_x(P, c) + block.x - 1) / block.x,
                     (items_y(P, c) + block.y - 1) / block.y);
     pass_kernel<P, Frame><<<grid, block>>>(c);
@@ -282,6 +294,7 @@ void begin_frame(Context& c, std::uint32_t frame) {
     c.has_history = frame > 0u;
     c.camera = box::camera_of_frame(frame, c.width, c.height);
     c.previous_camera = box::camera_of_frame(frame > 0u ? frame - 1u : 0u, c.width, c.height);
+    c.build_recipes();
 }
 
 // --- Comparison -----------------------------------------------------------------------------
@@ -520,6 +533,7 @@ double record_bytes(Pass p, bool packed) {
 
 int main(int argc, char** argv) {
     const Options o = parse(argc, argv);
+    pixel_block = dim3(o.block_x, o.block_y);
     const std::uint32_t threads =
         o.threads > 0 ? o.threads : std::max(1u, std::thread::hardware_concurrency());
     const std::size_t pixels = std::size_t{o.width} * o.height;

@@ -129,13 +129,32 @@ struct LightTileArrays {
     }
 };
 
+namespace detail {
+/// p-hat of one tile entry at a receiver, from its plane values `value(TilePlane)`.
+template <ChannelNorm Norm, class Value>
+RESTIR_HOST_DEVICE float tile_entry_target(const Value& value, glm::vec3 position, glm::vec3 normal,
+                                           glm::vec3 channel_weights) {
+    const float factor = folded_irradiance_factor(
+        value(TilePlane::position_x) - position.x, value(TilePlane::position_y) - position.y,
+        value(TilePlane::position_z) - position.z, normal, value(TilePlane::normal_x),
+        value(TilePlane::normal_y), value(TilePlane::normal_z), value(TilePlane::isotropic),
+        value(TilePlane::yuksel_radius_squared), value(TilePlane::min_distance_squared));
+    const float intensity = fold_channels<Norm>({channel_weights.x * value(TilePlane::radiance_r),
+                                                 channel_weights.y * value(TilePlane::radiance_g),
+                                                 channel_weights.z * value(TilePlane::radiance_b)});
+    const float v = intensity * factor;
+    return is_valid_weight(v) ? v : 0.0f;
+}
+} // namespace detail
+
 /// Target values of the `Size` consecutive entries [first, first + Size) of tile `tile` at a
 /// receiver (`position`, `normal`): p-hat_i = fold_channels<Norm>(channel_weights * E_i), E_i
 /// the unshadowed irradiance (`folded_irradiance_factor` times the entry's intensity;
 /// channel_weights = albedo / pi gives a diffuse receiver's reflected radiance; with
 /// ChannelNorm::sum, dot(channel_weights, E_i)). `Size` and `first` are multiples of
 /// `tile_group_size`. Fills `block` and returns the global entry index of its lane 0, as
-/// `resample_ris_batch` expects.
+/// `resample_ris_batch` expects. In device code `tiles.planes` must be 16-byte aligned (as
+/// cudaMalloc's memory is): each plane's lanes are read as 16-byte loads.
 template <std::uint32_t Size, ChannelNorm Norm = ChannelNorm::sum>
 RESTIR_HOST_DEVICE std::uint32_t
 evaluate_tile_block(const LightTileArrays& tiles, std::uint32_t tile, std::uint32_t first,
@@ -147,41 +166,46 @@ evaluate_tile_block(const LightTileArrays& tiles, std::uint32_t tile, std::uint3
     constexpr std::uint32_t lanes = tile_group_size;
     const std::uint32_t base = tile * tiles.tile_size + first;
     for (std::uint32_t group = 0; group < Size / lanes; ++group) {
-        const std::uint64_t entry = std::uint64_t{base} + group * lanes;
-        const auto at = [&](TilePlane k) { return tiles.group_plane(entry, k); };
-        const float* px = at(TilePlane::position_x);
-        const float* py = at(TilePlane::position_y);
-        const float* pz = at(TilePlane::position_z);
-        const float* nx = at(TilePlane::normal_x);
-        const float* ny = at(TilePlane::normal_y);
-        const float* nz = at(TilePlane::normal_z);
-        const float* isotropic = at(TilePlane::isotropic);
-        const float* red = at(TilePlane::radiance_r);
-        const float* green = at(TilePlane::radiance_g);
-        const float* blue = at(TilePlane::radiance_b);
-        const float* radius2 = at(TilePlane::yuksel_radius_squared);
-        const float* min_distance2 = at(TilePlane::min_distance_squared);
-        const float* inverse_pdf = at(TilePlane::inverse_pdf);
+        // The group's planes lie one after the other, `lanes` floats each.
+        const float* planes =
+            tiles.group_plane(std::uint64_t{base} + group * lanes, TilePlane::position_x);
+#if defined(__CUDA_ARCH__)
+        // Four lanes at a time, each plane's four values in one 16-byte load through the
+        // read-only cache: a thread reads its block's 416 bytes once. (With 4-byte loads the
+        // 32-byte sectors of 8 lanes came from L2 up to 8 times each, L1 holding too little
+        // for every thread's block: 13 GB of L2 traffic for 66M candidates at 1080p.)
+        for (std::uint32_t quad = 0; quad < lanes; quad += 4u) {
+            float4 values[tile_plane_count];
+            for (std::uint32_t k = 0; k < tile_plane_count; ++k)
+                values[k] = __ldg(reinterpret_cast<const float4*>(planes + k * lanes + quad));
+            for (std::uint32_t j = 0; j < 4u; ++j) {
+                const auto value = [&](TilePlane k) {
+                    const float4& v = values[static_cast<std::uint32_t>(k)];
+                    return j == 0u ? v.x : j == 1u ? v.y : j == 2u ? v.z : v.w;
+                };
+                block.target[group * lanes + quad + j] =
+                    detail::tile_entry_target<Norm>(value, position, normal, channel_weights);
+                block.inverse_pdf[group * lanes + quad + j] = value(TilePlane::inverse_pdf);
+            }
+        }
+#else
         // Results go to local arrays first: `block` could alias the planes as far as the
-        // compiler knows, and it will not check 15 pointers for overlap at run time, so it
+        // compiler knows, and it will not check the planes for overlap at run time, so it
         // would not vectorise the loop.
         float target[lanes];
         float weight_scale[lanes];
         for (std::uint32_t i = 0; i < lanes; ++i) {
-            const float factor = folded_irradiance_factor(
-                px[i] - position.x, py[i] - position.y, pz[i] - position.z, normal, nx[i], ny[i],
-                nz[i], isotropic[i], radius2[i], min_distance2[i]);
-            const float intensity =
-                fold_channels<Norm>({channel_weights.x * red[i], channel_weights.y * green[i],
-                                     channel_weights.z * blue[i]});
-            const float v = intensity * factor;
-            target[i] = is_valid_weight(v) ? v : 0.0f;
-            weight_scale[i] = inverse_pdf[i];
+            const auto value = [&](TilePlane k) {
+                return planes[static_cast<std::uint32_t>(k) * lanes + i];
+            };
+            target[i] = detail::tile_entry_target<Norm>(value, position, normal, channel_weights);
+            weight_scale[i] = value(TilePlane::inverse_pdf);
         }
         for (std::uint32_t i = 0; i < lanes; ++i) {
             block.target[group * lanes + i] = target[i];
             block.inverse_pdf[group * lanes + i] = weight_scale[i];
         }
+#endif
     }
     return base;
 }
