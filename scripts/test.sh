@@ -22,6 +22,8 @@ if [ -n "$nvcc_bin" ]; then
   mkdir -p build/cuda
   "$nvcc_bin" "${nvcc_flags[@]}" -c tests/cuda/kernel_compile.cu -o build/cuda/kernel_compile.o
   "$nvcc_bin" "${nvcc_flags[@]}" tests/cuda/device_check.cu -o build/cuda/device_check
+  # The GPU benchmark of the DI pipeline (benchmarks/cuda; scripts/gpu-benchmark.sh runs it).
+  "$nvcc_bin" "${nvcc_flags[@]}" -O3 benchmarks/cuda/di_pipeline.cu -o build/cuda/di_pipeline
   # Each header alone, as g++ checks it in CMake (restir_header_check).
   for header in $(cd include && find restir -name '*.hpp' | sort); do
     echo "#include <$header>" >build/cuda/header.cu
@@ -29,10 +31,16 @@ if [ -n "$nvcc_bin" ]; then
       { echo "$header does not compile alone under nvcc"; exit 1; }
   done
   echo "passed: tests/cuda/*.cu and each header alone compile with $("$nvcc_bin" --version | tail -1)"
+  # The benchmark's CPU passes alone, small: the program runs and writes its image.
+  build/cuda/di_pipeline --cpu-only --width 64 --height 36 --frames 3 --vpls 2000 \
+    --image build/cuda/di_pipeline.ppm >build/cuda/di_pipeline_cpu.log
+  echo "passed: build/cuda/di_pipeline --cpu-only"
   if nvidia-smi -L >/dev/null 2>&1; then
     build/cuda/device_check
+    # GPU and CPU passes compared item by item (exit 1 on a difference).
+    build/cuda/di_pipeline --width 320 --height 180 --frames 5 --warmup 1 --check-frames 3
   else
-    echo "skipped: no GPU to run build/cuda/device_check (GPU vs CPU results)"
+    echo "skipped: no GPU to run build/cuda/device_check and build/cuda/di_pipeline (GPU vs CPU results)"
   fi
 else
   echo "skipped: no nvcc"

@@ -506,6 +506,15 @@ void write_ppm(const std::string& path, const std::vector<glm::vec3>& image, std
     std::printf("wrote %s\n", path.c_str());
 }
 
+// `v` in `format`, or "-" where nothing was measured (0).
+std::string number(double v, const char* format) {
+    if (!(v > 0.0))
+        return "-";
+    char text[32];
+    std::snprintf(text, sizeof text, format, v);
+    return text;
+}
+
 // Bytes a pass reads and writes per pixel at the least (each record once), by layout.
 double record_bytes(Pass p, bool packed) {
     const double texel = sizeof(box::Texel), reservoir = sizeof(box::Reservoir);
@@ -715,12 +724,19 @@ int main(int argc, char** argv) {
                               static_cast<unsigned long long>(a.mismatches));
                 all_agree = all_agree && a.mismatches == 0;
             }
-            std::printf("%-34s %10.3f %10.3f %8.1f %12.0f %12s %s\n", box::pass_name(p), g, c,
-                        g > 0.0 ? c / g : 0.0, record_bytes(p, packed), rate, agree);
+            std::printf("%-34s %10s %10s %8s %12.0f %12s %s\n", box::pass_name(p),
+                        number(g, "%.3f").c_str(), number(c, "%.3f").c_str(),
+                        number(g > 0.0 && c > 0.0 ? c / g : 0.0, "%.1f").c_str(),
+                        record_bytes(p, packed), rate, agree);
         }
-        std::printf("%-34s %10.3f %10.3f %8.1f   (median frame on the GPU: %.3f ms)\n",
-                    "library passes (no analytic rays)", gpu_sum, cpu_sum,
-                    gpu_sum > 0.0 ? cpu_sum / gpu_sum : 0.0, median(gpu_frame_ms));
+        std::printf(
+            "%-34s %10s %10s %8s", "library passes (no analytic rays)",
+            number(gpu_sum, "%.3f").c_str(), number(cpu_sum, "%.3f").c_str(),
+            number(gpu_sum > 0.0 && cpu_sum > 0.0 ? cpu_sum / gpu_sum : 0.0, "%.1f").c_str());
+        if (gpu)
+            std::printf("   (median GPU frame of the library passes: %.3f ms)",
+                        median(gpu_frame_ms));
+        std::printf("\n");
         if (gpu)
             for (cudaEvent_t& e : events)
                 cudaEventDestroy(e);
