@@ -160,6 +160,34 @@ __global__ void photon_kernel(restir::PhotonSource source, restir::PhotonParams 
                                               out + photon * photon_bounces);
 }
 
+// Light BVH: a draw at a shading point (a region for every fourth pixel) and `pmf` of the
+// drawn light there, on the GPU and the CPU.
+struct BvhResult {
+    std::uint32_t light; // 0xffffffff: no light
+    float draw_pmf;      // the pmf the descent returned
+    float pmf;           // LightBvhView::pmf of the drawn light
+};
+
+RESTIR_HOST_DEVICE BvhResult bvh_pixel(std::uint32_t pixel, restir::LightBvhView bvh) {
+    restir::Pcg32 rng = restir::make_pixel_rng(pixel, 5u, 1u, 2024u);
+    const float x = static_cast<float>(pixel % 256u) / 256.0f;
+    const float z = static_cast<float>(pixel / 256u % 256u) / 256.0f;
+    const restir::ShadingPoint at{glm::vec3(x, 0.0f, z), glm::vec3(0.0f, 1.0f, 0.0f),
+                                  pixel % 4u == 0u ? 0.05f : 0.0f};
+    const float u0 = next_float(rng);
+    const float u1 = next_float(rng);
+    const restir::DiscreteSample c = bvh.sample(at, u0, u1);
+    if (!(c.pmf > 0.0f))
+        return {0xffffffffu, 0.0f, 0.0f};
+    return {c.index, c.pmf, bvh.pmf(at, c.index)};
+}
+
+__global__ void bvh_kernel(restir::LightBvhView bvh, std::uint32_t pixels, BvhResult* out) {
+    const std::uint32_t pixel = blockIdx.x * blockDim.x + threadIdx.x;
+    if (pixel < pixels)
+        out[pixel] = bvh_pixel(pixel, bvh);
+}
+
 // Compares GPU results with the same function run on the CPU; returns the mismatch count.
 template <class CpuResult>
 std::uint32_t compare(const char* name, const std::vector<PixelResult>& gpu, CpuResult&& cpu_at) {
@@ -262,6 +290,48 @@ int main() {
                 return reuse_pixel(p, light_x.data(), reservoirs.data(), points.data(), pairwise);
             });
     }
+
+    // Light BVH over 4096 point lights above the unit square, facing down or isotropic.
+    std::vector<restir::LightBounds> bounds(light_count);
+    for (std::uint32_t i = 0; i < light_count; ++i) {
+        const glm::vec3 position(next_float(setup), 0.05f + next_float(setup), next_float(setup));
+        bounds[i] = restir::point_light_bounds(
+            position, i % 3u == 0u ? glm::vec3(0.0f) : glm::vec3(0.0f, -1.0f, 0.0f), power[i]);
+    }
+    const restir::LightBvh bvh(bounds);
+    const restir::LightBvhView device_bvh{upload(bvh.nodes()), upload(bvh.paths()), light_count};
+    BvhResult* device_bvh_out = nullptr;
+    cudaMalloc(&device_bvh_out, pixels * sizeof(BvhResult));
+    bvh_kernel<<<(pixels + 127) / 128, 128>>>(device_bvh, pixels, device_bvh_out);
+    std::vector<BvhResult> bvh_gpu(pixels);
+    if (cudaMemcpy(bvh_gpu.data(), device_bvh_out, pixels * sizeof(BvhResult),
+                   cudaMemcpyDeviceToHost) != cudaSuccess) {
+        std::printf("CUDA error: %s\n", cudaGetErrorString(cudaGetLastError()));
+        return 1;
+    }
+    std::uint32_t bvh_mismatches = 0, drawn = 0;
+    for (std::uint32_t p = 0; p < pixels; ++p) {
+        const BvhResult cpu = bvh_pixel(p, bvh.view());
+        const BvhResult& g = bvh_gpu[p];
+        drawn += cpu.light != 0xffffffffu ? 1u : 0u;
+        // The same light, and both pmfs equal to the CPU's to 1e-5.
+        const auto close = [](float a, float b) {
+            return std::abs(static_cast<double>(a) - b) <= 1e-5 * std::abs(static_cast<double>(a));
+        };
+        if (cpu.light != g.light || !close(cpu.draw_pmf, g.draw_pmf) || !close(cpu.pmf, g.pmf)) {
+            if (bvh_mismatches < 3)
+                std::printf("light BVH pixel %u: CPU light %u pmf %g / %g, GPU light %u pmf %g / "
+                            "%g\n",
+                            p, cpu.light, static_cast<double>(cpu.draw_pmf),
+                            static_cast<double>(cpu.pmf), g.light, static_cast<double>(g.draw_pmf),
+                            static_cast<double>(g.pmf));
+            ++bvh_mismatches;
+        }
+    }
+    std::printf("light BVH: %u shading points (%u drew a light), %u mismatches between GPU and "
+                "CPU\n",
+                pixels, drawn, bvh_mismatches);
+    mismatches += bvh_mismatches;
 
     // Photons: GPU VPLs against shoot_photons on the CPU. Only sin, cos and sqrt may differ
     // in their last bits between the two, so positions and fluxes agree to 1e-4.
