@@ -53,7 +53,8 @@ inline constexpr std::uint32_t tile_group_size = 8u;
 /// tile_group_size) of `planes`. A group is 416 contiguous bytes, so a block of candidates reads
 /// neighbouring cache lines rather than one line in each of 13 distant arrays. `references`
 /// holds the entries' light references in entry order. A view over the caller's memory
-/// (device memory for a kernel); the caller refills it every frame.
+/// (device memory for a kernel, `planes` 16-byte aligned: device code reads it in 16-byte
+/// loads); the caller refills it every frame.
 struct LightTileArrays {
     float* planes = nullptr;
     LightSampleRef* references = nullptr;
@@ -174,6 +175,7 @@ evaluate_tile_block(const LightTileArrays& tiles, std::uint32_t tile, std::uint3
         // read-only cache: a thread reads its block's 416 bytes once. (With 4-byte loads the
         // 32-byte sectors of 8 lanes came from L2 up to 8 times each, L1 holding too little
         // for every thread's block: 13 GB of L2 traffic for 66M candidates at 1080p.)
+        RESTIR_ASSERT(reinterpret_cast<std::uintptr_t>(planes) % 16u == 0u);
         for (std::uint32_t quad = 0; quad < lanes; quad += 4u) {
             float4 values[tile_plane_count];
             for (std::uint32_t k = 0; k < tile_plane_count; ++k)
