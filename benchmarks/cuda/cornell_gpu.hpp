@@ -375,7 +375,9 @@ struct Context {
     restir::Falloff falloff{};
     float ray_offset = 0.1f;
     restir::LightTileArrays tiles{};
-    Texel* surfaces = nullptr;          // this frame's G-buffer
+    bool bvh_source = false;    // candidates drawn per pixel from the light BVH, not the tiles
+    restir::LightBvhView bvh{}; // over `lights`
+    Texel* surfaces = nullptr;  // this frame's G-buffer
     Texel* previous_surfaces = nullptr; // last frame's
     Reservoir* current = nullptr;       // candidates, visibility, spatial, final visibility
     Reservoir* scratch = nullptr;       // temporal
@@ -455,6 +457,26 @@ RESTIR_HOST_DEVICE inline void tile_entry(const Context& c, std::uint32_t i, std
                   restir::presample_light(power, c.lights, rng), c.falloff);
 }
 
+// Streaming RIS over candidates drawn from the light BVH for the surface (restir-render's
+// bvh_reservoir; the source pdf is the light's pmf there).
+RESTIR_HOST_DEVICE inline Reservoir bvh_candidates(const Context& c, const Texel& s,
+                                                   restir::Pcg32& rng) {
+    const restir::ShadingPoint at{s.position, s.normal};
+    return restir::resample_ris(
+        rng, c.candidates,
+        [&](restir::Pcg32& g) {
+            const restir::SourceSample<restir::LightSampleRef> x =
+                restir::draw_light_candidate(c.bvh, at, g);
+            restir::SourceSample<restir::LightPointSample> candidate{{}, x.pdf};
+            if (x.pdf > 0.0f)
+                candidate.sample = restir::make_light_point_sample(
+                    x.sample.light_id, c.lights.sample_point(x.sample.light_id, x.sample.uv),
+                    c.falloff);
+            return candidate;
+        },
+        [&](const restir::LightPointSample& x) { return Target{}(x, s); });
+}
+
 // Stage 1 (restir-render's tile_reservoir): batch RIS over the pixel block's tile; tested for
 // visibility here only when the recipe traces its rays itself.
 template <class Frame>
@@ -462,7 +484,10 @@ RESTIR_HOST_DEVICE void candidates_pixel(const Context& c, std::uint32_t x, std:
     const std::uint32_t i = x + y * c.width;
     const Texel& s = c.surfaces[i];
     Reservoir r{};
-    if (is_valid_surface(s)) {
+    if (is_valid_surface(s) && c.bvh_source) {
+        restir::Pcg32 rng = restir::make_pixel_rng(i, c.frame, restir::RngStream::initial, c.seed);
+        r = c.recipe<Frame>().initial(c.pixel(x, y), bvh_candidates(c, s, rng), c.visibility());
+    } else if (is_valid_surface(s)) {
         restir::Pcg32 rng = restir::make_pixel_rng(i, c.frame, restir::RngStream::initial, c.seed);
         const std::uint32_t columns = (c.width + pixel_block - 1u) / pixel_block;
         const std::uint32_t tile =

@@ -36,6 +36,11 @@ struct Options {
     std::string layout = "both";    // plain | packed | both
     bool mis_rays = false;          // pairwise MIS with traced visibility (restir-render's)
     bool cpu_only = false;
+    std::string source = "tiles";            // tiles | bvh (initial candidates)
+    std::uint32_t candidates = 32;           // initial candidates per pixel
+    bool reuse = true;                       // false: RIS alone (no temporal or spatial reuse)
+    bool static_camera = false;              // the camera of frame 0 in every frame
+    std::uint32_t reference_frames = 0;      // > 0: per-frame MSE against this many frames of RIS
     std::string image;                       // PPM of the last frame
     std::uint32_t block_x = 16, block_y = 8; // threads per CUDA block of the pixel passes
 };
@@ -47,7 +52,9 @@ struct Options {
                  "usage: di_pipeline [--width N] [--height N] [--frames N] [--warmup N]\n"
                  "                   [--check-frames N] [--vpls N] [--threads N]\n"
                  "                   [--layout plain|packed|both] [--mis-rays] [--cpu-only]\n"
-                 "                   [--image FILE.ppm] [--block WxH]\n");
+                 "                   [--image FILE.ppm] [--block WxH] [--source tiles|bvh]\n"
+                 "                   [--candidates N] [--no-reuse] [--static-camera]\n"
+                 "                   [--reference-frames N]\n");
     std::exit(message != nullptr ? 2 : 0);
 }
 
@@ -94,6 +101,18 @@ Options parse(int argc, char** argv) {
                 usage("--layout takes plain, packed or both");
         } else if (a == "--mis-rays")
             o.mis_rays = true;
+        else if (a == "--source") {
+            o.source = value();
+            if (o.source != "tiles" && o.source != "bvh")
+                usage("--source takes tiles or bvh");
+        } else if (a == "--candidates")
+            o.candidates = parse_count(value(), 1, 4096);
+        else if (a == "--no-reuse")
+            o.reuse = false;
+        else if (a == "--static-camera")
+            o.static_camera = true;
+        else if (a == "--reference-frames")
+            o.reference_frames = parse_count(value(), 1, 1'000'000);
         else if (a == "--cpu-only")
             o.cpu_only = true;
         else if (a == "--image")
@@ -227,12 +246,19 @@ void run_pass(Pass p, const Context& c, bool gpu, std::uint32_t threads) {
 
 // The passes of a frame: with ray-free reuse (deferred visibility) stage 1's rays go in a
 // pass of their own; with traced MIS rays the candidates pass traces them.
+// Without reuse (RIS alone) the frame ends after stage 1's visibility. Light tiles only for
+// candidates drawn from them.
 std::vector<Pass> frame_passes(const Context& c) {
-    std::vector<Pass> passes = {Pass::gbuffer, Pass::tiles, Pass::candidates};
+    std::vector<Pass> passes = {Pass::gbuffer};
+    if (!c.bvh_source)
+        passes.push_back(Pass::tiles);
+    passes.push_back(Pass::candidates);
     if (c.params.deferred_visibility)
         passes.push_back(Pass::visibility);
-    for (const Pass p : {Pass::temporal, Pass::spatial, Pass::final_visibility, Pass::shading})
-        passes.push_back(p);
+    if (c.params.temporal_reuse)
+        for (const Pass p : {Pass::temporal, Pass::spatial, Pass::final_visibility})
+            passes.push_back(p);
+    passes.push_back(Pass::shading);
     return passes;
 }
 
@@ -289,11 +315,12 @@ void end_frame(Context& c) {
     if (!c.packed)
         std::swap(c.current, c.history);
 }
-void begin_frame(Context& c, std::uint32_t frame) {
+void begin_frame(Context& c, std::uint32_t frame, bool moving_camera) {
     c.frame = frame;
     c.has_history = frame > 0u;
-    c.camera = box::camera_of_frame(frame, c.width, c.height);
-    c.previous_camera = box::camera_of_frame(frame > 0u ? frame - 1u : 0u, c.width, c.height);
+    const std::uint32_t shown = moving_camera ? frame : 0u;
+    c.camera = box::camera_of_frame(shown, c.width, c.height);
+    c.previous_camera = box::camera_of_frame(shown > 0u ? shown - 1u : 0u, c.width, c.height);
     c.build_recipes();
 }
 
@@ -482,6 +509,43 @@ std::vector<restir::Vpl> shoot_on_gpu(const restir::PhotonEmitters& emitters,
     return vpls;
 }
 
+// --- Error against a reference ------------------------------------------------------------
+
+__global__ void add_image(glm::vec3* sum, const glm::vec3* image, std::uint32_t pixels,
+                          float scale) {
+    const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i < pixels)
+        sum[i] += scale * image[i];
+}
+
+// Adds the squared error of `image` against `reference`, averaged over the channels, to `*sum`.
+__global__ void add_squared_error(double* sum, const glm::vec3* image, const glm::vec3* reference,
+                                  std::uint32_t pixels) {
+    const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+    double e = 0.0;
+    if (i < pixels) {
+        const glm::vec3 d = image[i] - reference[i];
+        e = (static_cast<double>(d.x) * d.x + static_cast<double>(d.y) * d.y +
+             static_cast<double>(d.z) * d.z) /
+            3.0;
+    }
+    for (int offset = 16; offset > 0; offset /= 2)
+        e += __shfl_down_sync(0xffffffffu, e, offset);
+    if (threadIdx.x % 32u == 0u)
+        atomicAdd(sum, e);
+}
+
+// The per-frame MSE of `image` against `reference`.
+double frame_mse(double* sum, const glm::vec3* image, const glm::vec3* reference,
+                 std::size_t pixels) {
+    check_cuda(cudaMemset(sum, 0, sizeof(double)), "MSE");
+    add_squared_error<<<(static_cast<std::uint32_t>(pixels) + 255u) / 256u, 256u>>>(
+        sum, image, reference, static_cast<std::uint32_t>(pixels));
+    double total = 0.0;
+    download(&total, sum, 1);
+    return total / static_cast<double>(pixels);
+}
+
 // --- Output ---------------------------------------------------------------------------------
 
 void write_ppm(const std::string& path, const std::vector<glm::vec3>& image, std::uint32_t w,
@@ -610,6 +674,27 @@ int main(int argc, char** argv) {
     base.ray_offset = 1e-4f * extent;
     base.tiles.tile_count = box::tile_count;
     base.tiles.tile_size = box::tile_size;
+    base.candidates = o.candidates;
+    base.bvh_source = o.source == "bvh";
+    if (!o.reuse) {
+        base.params.temporal_reuse = false;
+        base.params.spatial_passes = 0u;
+    }
+
+    // The light BVH over the same lights (emitters as area lights, VPLs as cosine emitters),
+    // for --source bvh.
+    std::vector<float> powers = restir::unified_light_powers(host_lights);
+    std::vector<restir::LightBounds> bounds;
+    for (std::uint32_t e = 0; e < host_emitters.count; ++e) {
+        const box::Emitter& t = emitters[e];
+        const glm::vec3 b = t.a + t.ab, c = t.a + t.ac;
+        bounds.push_back(restir::area_light_bounds(
+            glm::min(t.a, glm::min(b, c)), glm::max(t.a, glm::max(b, c)), t.normal, powers[e]));
+    }
+    for (std::size_t v = 0; v < vpls.size(); ++v)
+        bounds.push_back(restir::point_light_bounds(vpls[v].position, vpls[v].normal,
+                                                    powers[host_emitters.count + v]));
+    const restir::LightBvh bvh(bounds);
 
     // The CPU side.
     HostBuffers host;
@@ -618,6 +703,7 @@ int main(int argc, char** argv) {
     h.scene = &scene;
     h.lights = host_lights;
     h.power = table.view();
+    h.bvh = bvh.view();
     host.point(h);
 
     // The GPU side: the same inputs in device memory.
@@ -628,7 +714,36 @@ int main(int argc, char** argv) {
         d.lights = {upload(std::vector<box::Emitters>{device_emitters}), upload(vpls),
                     host_lights.vpl_count};
         d.power = {upload(table_entries), table.size()};
+        d.bvh = {upload(bvh.nodes()), upload(bvh.paths()), bvh.view().count};
         point_device(d, pixels, entries);
+    }
+
+    // The reference: the mean of `reference_frames` frames of RIS (32 candidates from the tiles,
+    // shadow-tested) under the static camera, with its own random numbers.
+    glm::vec3* reference = nullptr;
+    double* squared_error = nullptr;
+    if (gpu && o.reference_frames > 0) {
+        Context r = d;
+        r.params.temporal_reuse = false;
+        r.params.spatial_passes = 0u;
+        r.bvh_source = false;
+        r.candidates = 32u;
+        r.seed = 7u;
+        r.packed = false;
+        reference = device_alloc<glm::vec3>(pixels);
+        squared_error = device_alloc<double>(1);
+        check_cuda(cudaMemset(reference, 0, pixels * sizeof(glm::vec3)), "reference");
+        for (std::uint32_t f = 0; f < o.reference_frames; ++f) {
+            begin_frame(r, f, false);
+            for (const Pass p : frame_passes(r))
+                run_pass(p, r, true, threads);
+            add_image<<<(static_cast<std::uint32_t>(pixels) + 255u) / 256u, 256u>>>(
+                reference, r.image, static_cast<std::uint32_t>(pixels),
+                1.0f / static_cast<float>(o.reference_frames));
+        }
+        check_cuda(cudaDeviceSynchronize(), "reference");
+        std::printf("reference: the mean of %u frames of RIS (32 candidates from the tiles)\n",
+                    o.reference_frames);
     }
 
     std::vector<std::string> layouts;
@@ -643,13 +758,17 @@ int main(int argc, char** argv) {
         h.packed = d.packed = packed;
         const std::vector<Pass> passes = frame_passes(h);
         std::printf(
-            "\n== %s history (%zu B a pixel), %s reuse, %ux%u, %u candidates, %zu "
-            "lights\n",
+            "\n== %s history (%zu B a pixel), %s, %ux%u, %u candidates from the %s, %zu "
+            "lights%s\n",
             packed ? "packed" : "plain", packed ? sizeof(box::Packed) : sizeof(box::Reservoir),
-            o.mis_rays ? "pairwise MIS with traced visibility in" : "pairwise MIS, ray-free",
-            o.width, o.height, h.candidates, host_lights.light_count() + std::size_t{0});
+            !o.reuse     ? "RIS alone (no reuse)"
+            : o.mis_rays ? "pairwise MIS with traced visibility in reuse"
+                         : "pairwise MIS, ray-free reuse",
+            o.width, o.height, h.candidates, h.bvh_source ? "light BVH" : "light tiles",
+            host_lights.light_count() + std::size_t{0}, o.static_camera ? ", static camera" : "");
 
         std::vector<double> cpu_ms[box::pass_count], gpu_ms[box::pass_count], gpu_frame_ms;
+        std::vector<double> frame_errors;
         Comparison comparison;
         const std::uint32_t cpu_frames = o.cpu_only ? o.frames : (gpu ? o.check_frames : 0u);
         const std::uint32_t total = gpu ? o.check_frames + o.warmup + o.frames : o.frames;
@@ -658,8 +777,8 @@ int main(int argc, char** argv) {
             for (cudaEvent_t& e : events)
                 cudaEventCreate(&e);
         for (std::uint32_t frame = 0; frame < total; ++frame) {
-            begin_frame(h, frame);
-            begin_frame(d, frame);
+            begin_frame(h, frame, !o.static_camera);
+            begin_frame(d, frame, !o.static_camera);
             const bool on_cpu = frame < cpu_frames;
             const bool timed_gpu = gpu && frame >= o.check_frames + o.warmup;
             for (std::size_t k = 0; k < passes.size(); ++k) {
@@ -695,6 +814,8 @@ int main(int argc, char** argv) {
                         frame_ms += ms;
                 }
                 gpu_frame_ms.push_back(frame_ms);
+                if (reference != nullptr)
+                    frame_errors.push_back(frame_mse(squared_error, d.image, reference, pixels));
             }
             end_frame(h);
             end_frame(d);
@@ -737,6 +858,13 @@ int main(int argc, char** argv) {
             std::printf("   (median GPU frame of the library passes: %.3f ms)",
                         median(gpu_frame_ms));
         std::printf("\n");
+        if (!frame_errors.empty()) {
+            double mean = 0.0;
+            for (const double e : frame_errors)
+                mean += e / static_cast<double>(frame_errors.size());
+            std::printf("per-frame MSE against the reference: %.5g (mean of %zu frames)\n", mean,
+                        frame_errors.size());
+        }
         if (gpu)
             for (cudaEvent_t& e : events)
                 cudaEventDestroy(e);
