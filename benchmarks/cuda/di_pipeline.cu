@@ -4,7 +4,7 @@
 // compared pixel by pixel. Built by scripts/test.sh when nvcc is found; run it on a GPU with
 //   bash scripts/gpu-benchmark.sh                 (or build/cuda/di_pipeline --help)
 // Without a GPU, --cpu-only runs the CPU passes alone (and writes the image).
-#include "cornell_gpu.hpp"
+#include "di_pipeline.hpp"
 
 #include <cuda_runtime.h>
 
@@ -36,6 +36,10 @@ struct Options {
     std::string layout = "both";    // plain | packed | both
     bool mis_rays = false;          // pairwise MIS with traced visibility (restir-render's)
     bool cpu_only = false;
+    std::string scene = "cornell";          // cornell | many-lights
+    std::uint32_t lights = 100'000;         // many-lights: light quads
+    std::string reference_source = "tiles"; // the reference's RIS candidates: tiles | bvh
+    std::uint32_t reference_candidates = 32;
     std::string source = "tiles";            // tiles | bvh (initial candidates)
     std::uint32_t candidates = 32;           // initial candidates per pixel
     bool reuse = true;                       // false: RIS alone (no temporal or spatial reuse)
@@ -54,7 +58,9 @@ struct Options {
                  "                   [--layout plain|packed|both] [--mis-rays] [--cpu-only]\n"
                  "                   [--image FILE.ppm] [--block WxH] [--source tiles|bvh]\n"
                  "                   [--candidates N] [--no-reuse] [--static-camera]\n"
-                 "                   [--reference-frames N]\n");
+                 "                   [--reference-frames N] [--reference-source tiles|bvh]\n"
+                 "                   [--reference-candidates N] [--scene cornell|many-lights]\n"
+                 "                   [--lights N]\n");
     std::exit(message != nullptr ? 2 : 0);
 }
 
@@ -107,6 +113,18 @@ Options parse(int argc, char** argv) {
                 usage("--source takes tiles or bvh");
         } else if (a == "--candidates")
             o.candidates = parse_count(value(), 1, 4096);
+        else if (a == "--scene") {
+            o.scene = value();
+            if (o.scene != "cornell" && o.scene != "many-lights")
+                usage("--scene takes cornell or many-lights");
+        } else if (a == "--lights")
+            o.lights = parse_count(value(), 1, 10'000'000);
+        else if (a == "--reference-source") {
+            o.reference_source = value();
+            if (o.reference_source != "tiles" && o.reference_source != "bvh")
+                usage("--reference-source takes tiles or bvh");
+        } else if (a == "--reference-candidates")
+            o.reference_candidates = parse_count(value(), 1, 4096);
         else if (a == "--no-reuse")
             o.reuse = false;
         else if (a == "--static-camera")
@@ -319,8 +337,9 @@ void begin_frame(Context& c, std::uint32_t frame, bool moving_camera) {
     c.frame = frame;
     c.has_history = frame > 0u;
     const std::uint32_t shown = moving_camera ? frame : 0u;
-    c.camera = box::camera_of_frame(shown, c.width, c.height);
-    c.previous_camera = box::camera_of_frame(shown > 0u ? shown - 1u : 0u, c.width, c.height);
+    c.camera = box::camera_of_frame(c.view, shown, c.width, c.height);
+    c.previous_camera =
+        box::camera_of_frame(c.view, shown > 0u ? shown - 1u : 0u, c.width, c.height);
     c.build_recipes();
 }
 
@@ -612,11 +631,16 @@ int main(int argc, char** argv) {
     const std::size_t pixels = std::size_t{o.width} * o.height;
     const std::size_t entries = std::size_t{box::tile_count} * box::tile_size;
 
-    // The scene, its emitters and the camera's extent, on the host.
-    const box::Scene scene = box::make_scene();
-    const std::vector<box::Emitter> emitters = box::make_emitters(scene);
+    // The scene, its emitters and its extent (the diagonal of its box), on the host.
+    const bool cornell = o.scene == "cornell";
+    std::vector<box::Emitter> emitters;
+    const box::Scene scene =
+        cornell ? box::make_cornell_box() : box::make_many_lights(o.lights, 1u, emitters);
+    if (cornell)
+        emitters = box::make_emitters(scene);
     const box::Emitters host_emitters{emitters.data(), static_cast<std::uint32_t>(emitters.size())};
-    const float extent = glm::length(glm::vec3(556.0f, 548.8f, 559.2f)); // the box's diagonal
+    const float extent = cornell ? glm::length(glm::vec3(556.0f, 548.8f, 559.2f))
+                                 : glm::length(glm::vec3(100.0f, 3.0f, 100.0f));
     const restir::Falloff falloff = restir::Falloff::yuksel(0.02f * extent);
 
     int devices = 0;
@@ -651,12 +675,16 @@ int main(int argc, char** argv) {
     if (gpu)
         device_scene = upload(std::vector<box::Scene>{scene});
     std::vector<restir::Vpl> vpls;
-    if (o.vpls > 0) {
+    if (cornell && o.vpls > 0) {
         const double per_photon = static_cast<double>(shoot(4096).size()) / 4096.0;
         vpls = shoot(static_cast<std::uint32_t>(std::ceil(o.vpls / std::max(per_photon, 1e-3))));
     }
-    std::printf("VPLs: %zu from %u photons (%.3f ms on the %s)\n", vpls.size(),
-                photons.photon_count, static_cast<double>(photon_ms), gpu ? "GPU" : "CPU");
+    if (cornell)
+        std::printf("VPLs: %zu from %u photons (%.3f ms on the %s)\n", vpls.size(),
+                    photons.photon_count, static_cast<double>(photon_ms), gpu ? "GPU" : "CPU");
+    else
+        std::printf("many-lights: %u light quads (%zu emitter triangles), direct light only\n",
+                    o.lights, emitters.size());
 
     // The light set and its power table.
     const box::Lights host_lights{&host_emitters, vpls.data(),
@@ -666,6 +694,7 @@ int main(int argc, char** argv) {
                                                         table.entries().end());
 
     Context base;
+    base.view = cornell ? box::cornell_view : box::many_lights_view;
     base.width = o.width;
     base.height = o.height;
     base.params = box::recipe_params(o.height, o.mis_rays);
@@ -726,8 +755,8 @@ int main(int argc, char** argv) {
         Context r = d;
         r.params.temporal_reuse = false;
         r.params.spatial_passes = 0u;
-        r.bvh_source = false;
-        r.candidates = 32u;
+        r.bvh_source = o.reference_source == "bvh";
+        r.candidates = o.reference_candidates;
         r.seed = 7u;
         r.packed = false;
         reference = device_alloc<glm::vec3>(pixels);
@@ -742,8 +771,9 @@ int main(int argc, char** argv) {
                 1.0f / static_cast<float>(o.reference_frames));
         }
         check_cuda(cudaDeviceSynchronize(), "reference");
-        std::printf("reference: the mean of %u frames of RIS (32 candidates from the tiles)\n",
-                    o.reference_frames);
+        std::printf("reference: the mean of %u frames of RIS (%u candidates from the %s)\n",
+                    o.reference_frames, o.reference_candidates,
+                    r.bvh_source ? "light BVH" : "light tiles");
     }
 
     std::vector<std::string> layouts;

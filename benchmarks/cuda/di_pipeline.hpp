@@ -1,7 +1,8 @@
-// The Cornell box as analytic triangles, and the example renderer's ReSTIR DI frame written as
-// per-pixel functions that run unchanged in a CUDA kernel and in a CPU loop
-// (benchmarks/cuda/di_pipeline.cu). The geometry, materials, camera, light tiles, target
-// function and recipe settings are those of restir-render's default scene.
+// The example renderer's ReSTIR DI frame written as per-pixel functions that run unchanged in a
+// CUDA kernel and in a CPU loop (benchmarks/cuda/di_pipeline.cu), and its two scenes as
+// analytic geometry: the Cornell box (restir-render's geometry, materials and camera) and the
+// many-lights scene (its floor, camera and rules for the lights). The light tiles, target
+// function and recipe settings are restir-render's.
 #pragma once
 
 #include <restir/restir.hpp>
@@ -157,7 +158,7 @@ struct Lambertian {
 };
 
 /// The Cornell box of restir-render (examples/pathtracer/scene.cpp): room, light, two blocks.
-inline Scene make_scene() {
+inline Scene make_cornell_box() {
     Scene scene;
     using Quad = glm::vec3[4];
     const auto add = [&](const Quad& q, glm::vec3 towards, std::uint32_t material) {
@@ -257,6 +258,60 @@ inline std::vector<Emitter> make_emitters(const Scene& scene) {
     return out;
 }
 
+/// The many-lights scene's floor ([-50, 50]^2) and `count` square lights facing down over
+/// [-40, 40]^2, 1 to 3 above it, as restir-render's generator makes them (sides in [max/3, max],
+/// 16 colours of unit luminance times 0.25 to 1.75, 15000 W in all), in a layout of their own.
+/// The lights are emitters only: unlike restir-render's, they are not in the G-buffer and cast no
+/// shadows (only the floor is geometry).
+inline Scene make_many_lights(std::uint32_t count, std::uint64_t seed,
+                              std::vector<Emitter>& emitters) {
+    Scene scene;
+    const glm::vec3 corner(-50.0f, 0.0f, -50.0f);
+    // Normal up: (b - a) x (c - a) with a = corner, b = +z, c = +x.
+    const glm::vec3 along_x(100.0f, 0.0f, 0.0f), along_z(0.0f, 0.0f, 100.0f);
+    scene.triangles[scene.count++] = {corner, along_z, along_x, {0.0f, 1.0f, 0.0f}, white};
+    scene.triangles[scene.count++] = {
+        corner + along_x + along_z, -along_z, -along_x, {0.0f, 1.0f, 0.0f}, white};
+    restir::Pcg32 rng = restir::make_pixel_rng(0u, 0u, restir::RngStream::application, seed);
+    glm::vec3 colours[16];
+    float intensities[16];
+    for (std::uint32_t k = 0; k < 16u; ++k) {
+        const glm::vec3 c(0.2f + 0.8f * next_float(rng), 0.2f + 0.8f * next_float(rng),
+                          0.2f + 0.8f * next_float(rng));
+        colours[k] = c / (0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z);
+        intensities[k] = 0.25f + 1.5f * next_float(rng);
+    }
+    const float max_side = std::min(0.3f, 0.5f * std::sqrt(6400.0f / static_cast<float>(count)));
+    emitters.clear();
+    std::vector<std::uint32_t> entry_of(count);
+    double weighted_area = 0.0;
+    for (std::uint32_t i = 0; i < count; ++i) {
+        const float x = 40.0f * (2.0f * next_float(rng) - 1.0f);
+        const float z = 40.0f * (2.0f * next_float(rng) - 1.0f);
+        const float y = 1.0f + 2.0f * next_float(rng);
+        const float side = max_side / 3.0f + (max_side - max_side / 3.0f) * next_float(rng);
+        const std::uint32_t entry =
+            std::min(15u, static_cast<std::uint32_t>(next_float(rng) * 16.0f));
+        const float h = 0.5f * side;
+        // Facing down: (b - a) x (c - a) with b along +x, c along +z.
+        const glm::vec3 a(x - h, y, z - h), dx(side, 0.0f, 0.0f), dz(0.0f, 0.0f, side);
+        const glm::vec3 down(0.0f, -1.0f, 0.0f);
+        emitters.push_back(
+            {a, dx, dz, down, glm::vec3(static_cast<float>(entry)), 0.5f * side * side});
+        emitters.push_back({a + dx + dz, -dx, -dz, down, glm::vec3(static_cast<float>(entry)),
+                            0.5f * side * side});
+        entry_of[i] = entry;
+        weighted_area += static_cast<double>(intensities[entry]) * side * side;
+    }
+    // A diffuse emitter of radiance L and area A emits pi L A.
+    const auto scale = static_cast<float>(15000.0 / (3.14159265358979 * weighted_area));
+    for (std::uint32_t i = 0; i < count; ++i) {
+        const glm::vec3 radiance = colours[entry_of[i]] * (intensities[entry_of[i]] * scale);
+        emitters[2 * i].radiance = emitters[2 * i + 1].radiance = radiance;
+    }
+    return scene;
+}
+
 // --- Camera ---------------------------------------------------------------------------------
 
 /// A pinhole camera (restir-render's): rays through pixels, and the pixel a point projects to.
@@ -294,11 +349,21 @@ struct Camera {
     }
 };
 
-/// The camera of frame `frame`: restir-render's view of the box, swaying sideways (up to 60
-/// units, a period of about 125 frames), so that temporal reuse reprojects every frame.
-inline Camera camera_of_frame(std::uint32_t frame, std::uint32_t w, std::uint32_t h) {
-    const float sway = 60.0f * std::sin(0.05f * static_cast<float>(frame));
-    return Camera::look_at({278.0f + sway, 273.0f, -800.0f}, {278.0f, 273.0f, 0.0f}, 39.3077f, w,
+/// A scene's camera: restir-render's position, target and vertical field of view.
+struct View {
+    glm::vec3 from{0.0f}, at{0.0f, 0.0f, 1.0f};
+    float fov_degrees = 40.0f;
+};
+inline constexpr View cornell_view{{278.0f, 273.0f, -800.0f}, {278.0f, 273.0f, 0.0f}, 39.3077f};
+inline constexpr View many_lights_view{{0.0f, 120.0f, 100.0f}, {0.0f, 0.0f, 0.0f}, 40.0f};
+
+/// The camera of frame `frame`: `view` swaying sideways along x (by up to 7.5 % of its distance
+/// to the target, a period of about 125 frames), so that temporal reuse reprojects every frame.
+inline Camera camera_of_frame(const View& view, std::uint32_t frame, std::uint32_t w,
+                              std::uint32_t h) {
+    const float sway =
+        0.075f * glm::length(view.at - view.from) * std::sin(0.05f * static_cast<float>(frame));
+    return Camera::look_at(view.from + glm::vec3(sway, 0.0f, 0.0f), view.at, view.fov_degrees, w,
                            h);
 }
 
@@ -368,6 +433,7 @@ struct Context {
     std::uint64_t seed = 1u;
     restir::DiFrameParams params{};
     restir::NeighbourOffsets offsets{};
+    View view{};
     Camera camera, previous_camera;
     const Scene* scene = nullptr;
     Lights lights{};
