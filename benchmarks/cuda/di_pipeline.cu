@@ -15,6 +15,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
+#include <new>
 #include <string>
 #include <thread>
 #include <vector>
@@ -621,10 +623,7 @@ double record_bytes(Pass p, bool packed) {
     }
 }
 
-} // namespace
-
-int main(int argc, char** argv) {
-    const Options o = parse(argc, argv);
+int run_benchmark(const Options& o) {
     pixel_block = dim3(o.block_x, o.block_y);
     const std::uint32_t threads =
         o.threads > 0 ? o.threads : std::max(1u, std::thread::hardware_concurrency());
@@ -826,7 +825,8 @@ int main(int argc, char** argv) {
                     const double ms = std::chrono::duration<double, std::milli>(
                                           std::chrono::steady_clock::now() - start)
                                           .count();
-                    if (frame > 0u) // frame 0 has no history, and warms the caches
+                    // Frame 0 has no history and warms the caches: left out unless alone.
+                    if (frame > 0u || cpu_frames == 1u)
                         cpu_ms[static_cast<std::uint32_t>(p)].push_back(ms);
                     if (gpu)
                         comparison.pass(p, h, d);
@@ -911,4 +911,19 @@ int main(int argc, char** argv) {
             return 1;
     }
     return 0;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    const Options o = parse(argc, argv);
+    try {
+        return run_benchmark(o);
+    } catch (const std::bad_alloc&) {
+        std::fprintf(stderr, "di_pipeline: out of host memory (try a smaller --width, --height, "
+                             "--vpls or --lights)\n");
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "di_pipeline: %s\n", e.what());
+    }
+    return 1;
 }
