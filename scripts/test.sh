@@ -33,7 +33,8 @@ if [ -n "$nvcc_bin" ]; then
   echo "passed: tests/cuda/*.cu and each header alone compile with $("$nvcc_bin" --version | tail -1)"
   # The benchmark's CPU passes alone, small: the program runs and writes its image.
   build/cuda/di_pipeline --cpu-only --width 64 --height 36 --frames 3 --vpls 2000 \
-    --image build/cuda/di_pipeline.ppm >build/cuda/di_pipeline_cpu.log
+    --image build/cuda/di_pipeline.ppm >build/cuda/di_pipeline_cpu.log 2>&1 ||
+    { cat build/cuda/di_pipeline_cpu.log; exit 1; }
   echo "passed: build/cuda/di_pipeline --cpu-only"
   if nvidia-smi -L >/dev/null 2>&1; then
     build/cuda/device_check
