@@ -25,7 +25,8 @@ scenes=(
   "cornell-100k-vpls|--scene cornell --gi vpl --vpls 100000"
   "cornell-box-obj|--scene ../shared/scenes/cornell-box.obj --gi vpl --vpls 100000"
 )
-runs=(power:32 power:128 power:512 bvh:1 bvh:4 grid:32 grid:128)
+# SOURCE:CANDIDATES runs; RUNS="bvh:1 bvh:4" measures those alone.
+read -r -a runs <<<"${RUNS:-power:32 power:128 power:512 bvh:1 bvh:4 grid:32 grid:128}"
 
 summary() { # CSV: mean frame_ms and mean frame_rmse^2 over frames 2..N
   awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) c[$i] = i; next }

@@ -130,6 +130,13 @@ TEST(LightBvh, DrawsLightsWithItsPmfAt1kLights) { check_distribution(1000u, 8u, 
 
 TEST(LightBvh, DrawsLightsWithItsPmfAt1MLights) { check_distribution(1u << 20u, 2u, 400000u); }
 
+// Light counts that leave interior nodes with unused (powerless) children, which no draw may
+// take, and nodes whose children are all leaves.
+TEST(LightBvh, DrawsLightsWithItsPmfWhereNodesHaveUnusedChildren) {
+    for (const std::uint32_t count : {2u, 3u, 5u, 6u, 7u, 17u})
+        check_distribution(count, 4u, 20000u);
+}
+
 // RIS with BVH candidates: the mean of f(Y) W over trials is the irradiance summed over all
 // lights, within 4 measured standard errors, at points inside, beside and far from the lights.
 void check_ris_unbiased(std::uint32_t light_count) {

@@ -112,10 +112,12 @@ inline LightBvhNode light_bvh_node(const LightBounds& b) {
     return node;
 }
 
-/// The host-built tree over a list of lights (light id = index in the list). Splits every node
-/// at the median of its lights' centres along their widest axis: 2 n - 1 nodes, depth
-/// ceil(log2 n). Throws std::invalid_argument for more than 2^31 lights or a light with a
-/// negative or non-finite power or position.
+/// The host-built tree over a list of lights (light id = index in the list), with
+/// `LightBvhView::arity` (4) children per interior node: a node's lights are split at the median
+/// of their centres along their widest axis, and each half again along its own, so that the
+/// four quarters hold n / 4 lights each (a node of at most four lights gets one leaf each; unused
+/// children have no power). Depth about log4 n. Throws std::invalid_argument for more than 2^31
+/// lights or a light with a negative or non-finite power or position.
 class LightBvh {
 public:
     explicit LightBvh(std::span<const LightBounds> lights) : lights_(lights) {
@@ -129,10 +131,10 @@ public:
         paths_.assign(lights.size(), 0u);
         if (lights.empty())
             return;
-        nodes_.resize(2u * lights.size() - 1u);
+        nodes_.reserve(2u * lights.size());
+        nodes_.resize(1u);
         std::vector<std::uint32_t> order(lights.size());
         std::iota(order.begin(), order.end(), 0u);
-        next_free_ = 1u;
         build(order, 0u, order.size(), 0u, 0u, 0u);
         lights_ = {};
     }
@@ -163,6 +165,39 @@ private:
             paths_[id] = path | (std::uint64_t{depth} << LightBvhView::depth_shift);
             return lights_[id];
         }
+        // The children's ranges: one light each for up to four, else the quarters.
+        constexpr std::uint32_t arity = LightBvhView::arity;
+        std::size_t bounds_of_part[arity + 1u] = {begin, begin, begin, begin, end};
+        if (end - begin <= arity) {
+            for (std::uint32_t c = 0u; c <= arity; ++c)
+                bounds_of_part[c] = std::min(begin + c, end);
+        } else {
+            const std::size_t middle = split(order, begin, end);
+            bounds_of_part[1] = split(order, begin, middle);
+            bounds_of_part[2] = middle;
+            bounds_of_part[3] = split(order, middle, end);
+        }
+        const auto first = static_cast<std::uint32_t>(nodes_.size());
+        nodes_.resize(nodes_.size() + arity);
+        LightBounds bounds; // empty
+        for (std::uint32_t c = 0u; c < arity; ++c) {
+            if (bounds_of_part[c] == bounds_of_part[c + 1u]) {
+                // An unused child: a leaf without power, which no draw takes.
+                nodes_[first + c].child_or_light = LightBvhNode::leaf_bit;
+                continue;
+            }
+            bounds = merge_light_bounds(bounds, build(order, bounds_of_part[c],
+                                                      bounds_of_part[c + 1u], first + c, depth + 1u,
+                                                      path | (std::uint64_t{c} << (2u * depth))));
+        }
+        nodes_[index] = light_bvh_node(bounds);
+        nodes_[index].child_or_light = first;
+        return bounds;
+    }
+
+    // Splits order[begin, end) (at least two lights) at the median of their centres along their
+    // widest axis; returns the first index of the upper half.
+    std::size_t split(std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end) const {
         const std::size_t middle = begin + (end - begin) / 2u;
         const int axis = widest_centre_axis(order, begin, end);
         std::nth_element(
@@ -170,14 +205,7 @@ private:
             order.begin() + static_cast<std::ptrdiff_t>(middle),
             order.begin() + static_cast<std::ptrdiff_t>(end),
             [&](std::uint32_t a, std::uint32_t b) { return centre(a, axis) < centre(b, axis); });
-        const std::uint32_t first = next_free_;
-        next_free_ += 2u;
-        const LightBounds bounds = merge_light_bounds(
-            build(order, begin, middle, first, depth + 1u, path),
-            build(order, middle, end, first + 1u, depth + 1u, path | (std::uint64_t{1} << depth)));
-        nodes_[index] = light_bvh_node(bounds);
-        nodes_[index].child_or_light = first;
-        return bounds;
+        return middle;
     }
 
     float centre(std::uint32_t id, int axis) const {
@@ -199,7 +227,6 @@ private:
     std::span<const LightBounds> lights_; // while building
     std::vector<LightBvhNode> nodes_;
     std::vector<std::uint64_t> paths_;
-    std::uint32_t next_free_ = 0u;
 };
 
 } // namespace restir
