@@ -16,6 +16,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <exception>
+#include <initializer_list>
 #include <new>
 #include <string>
 #include <thread>
@@ -78,6 +79,18 @@ std::uint32_t parse_count(const char* text, std::uint32_t low, std::uint32_t hig
     return static_cast<std::uint32_t>(v);
 }
 
+// `text` when it is one of `allowed`; otherwise the usage, naming them.
+std::string choice(const std::string& option, const char* text,
+                   std::initializer_list<const char*> allowed) {
+    std::string names;
+    for (const char* name : allowed) {
+        if (std::strcmp(text, name) == 0)
+            return text;
+        names += names.empty() ? name : std::string(", ") + name;
+    }
+    usage((option + " takes one of " + names).c_str());
+}
+
 Options parse(int argc, char** argv) {
     Options o;
     for (int i = 1; i < argc; ++i) {
@@ -103,29 +116,21 @@ Options parse(int argc, char** argv) {
             o.vpls = parse_count(value(), 0, 10'000'000);
         else if (a == "--threads")
             o.threads = parse_count(value(), 1, 1024);
-        else if (a == "--layout") {
-            o.layout = value();
-            if (o.layout != "plain" && o.layout != "packed" && o.layout != "both")
-                usage("--layout takes plain, packed or both");
-        } else if (a == "--mis-rays")
+        else if (a == "--layout")
+            o.layout = choice(a, value(), {"plain", "packed", "both"});
+        else if (a == "--mis-rays")
             o.mis_rays = true;
-        else if (a == "--source") {
-            o.source = value();
-            if (o.source != "tiles" && o.source != "bvh")
-                usage("--source takes tiles or bvh");
-        } else if (a == "--candidates")
+        else if (a == "--source")
+            o.source = choice(a, value(), {"tiles", "bvh"});
+        else if (a == "--candidates")
             o.candidates = parse_count(value(), 1, 4096);
-        else if (a == "--scene") {
-            o.scene = value();
-            if (o.scene != "cornell" && o.scene != "many-lights")
-                usage("--scene takes cornell or many-lights");
-        } else if (a == "--lights")
+        else if (a == "--scene")
+            o.scene = choice(a, value(), {"cornell", "many-lights"});
+        else if (a == "--lights")
             o.lights = parse_count(value(), 1, 10'000'000);
-        else if (a == "--reference-source") {
-            o.reference_source = value();
-            if (o.reference_source != "tiles" && o.reference_source != "bvh")
-                usage("--reference-source takes tiles or bvh");
-        } else if (a == "--reference-candidates")
+        else if (a == "--reference-source")
+            o.reference_source = choice(a, value(), {"tiles", "bvh"});
+        else if (a == "--reference-candidates")
             o.reference_candidates = parse_count(value(), 1, 4096);
         else if (a == "--no-reuse")
             o.reuse = false;
