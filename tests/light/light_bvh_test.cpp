@@ -68,6 +68,14 @@ std::vector<LightBounds> bounds_of(const std::vector<TestLight>& lights) {
     return bounds;
 }
 
+// Every light as a point light (the area lights' quads left out of their bounds).
+std::vector<LightBounds> point_bounds_of(const std::vector<TestLight>& lights) {
+    std::vector<LightBounds> bounds;
+    for (const TestLight& l : lights)
+        bounds.push_back(restir::point_light_bounds(l.position, l.normal, l.power));
+    return bounds;
+}
+
 ShadingPoint random_point(restir::Pcg32& rng) {
     const glm::vec3 p(next_float(rng), next_float(rng), next_float(rng));
     return {-2.0f + 14.0f * p, random_direction(rng)};
@@ -143,10 +151,7 @@ void check_ris_unbiased(std::uint32_t light_count) {
     std::vector<TestLight> lights = test_lights(light_count, 21u);
     for (TestLight& l : lights) // point lights only: the truth is a plain sum
         l.normal = l.normal == glm::vec3(0.0f) ? l.normal : glm::normalize(l.normal);
-    std::vector<LightBounds> bounds;
-    for (const TestLight& l : lights)
-        bounds.push_back(restir::point_light_bounds(l.position, l.normal, l.power));
-    const restir::LightBvh bvh(bounds);
+    const restir::LightBvh bvh(point_bounds_of(lights));
     const restir::LightBvhView view = bvh.view();
     const ShadingPoint points[3] = {{glm::vec3(5.0f), glm::normalize(glm::vec3(1.0f, 2.0f, 3.0f))},
                                     {glm::vec3(-1.0f, 5.0f, 5.0f), glm::vec3(1.0f, 0.0f, 0.0f)},
@@ -179,10 +184,7 @@ TEST(LightBvh, RisWithBvhCandidatesIsUnbiasedAt1MLights) { check_ris_unbiased(1u
 // lights any point of it, whatever that point's normal.
 TEST(LightBvh, RegionPmfCoversEveryPointOfTheRegion) {
     const std::vector<TestLight> lights = test_lights(3000u, 31u);
-    std::vector<LightBounds> bounds;
-    for (const TestLight& l : lights)
-        bounds.push_back(restir::point_light_bounds(l.position, l.normal, l.power));
-    const restir::LightBvh bvh(bounds);
+    const restir::LightBvh bvh(point_bounds_of(lights));
     const restir::LightBvhView view = bvh.view();
     restir::Pcg32 rng = restir::make_pixel_rng(4u, 0u, 0u, 32u);
     for (int cell = 0; cell < 20; ++cell) {
@@ -271,10 +273,7 @@ TEST(LightBvh, PowerAndUniformSamplersIgnoreTheShadingPoint) {
 // that region, and the light's evaluated point.
 TEST(LightBvh, PresampledEntriesCarryThePmfAtTheirRegion) {
     const std::vector<TestLight> lights = test_lights(500u, 41u);
-    std::vector<LightBounds> bounds;
-    for (const TestLight& l : lights)
-        bounds.push_back(restir::point_light_bounds(l.position, l.normal, l.power));
-    const restir::LightBvh bvh(bounds);
+    const restir::LightBvh bvh(point_bounds_of(lights));
     const restir::LightBvhView view = bvh.view();
     struct Points { // restir::LightSet over the test lights
         const std::vector<TestLight>* lights;
