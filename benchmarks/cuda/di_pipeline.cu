@@ -747,7 +747,7 @@ int run_benchmark(const Options& o) {
         d.lights = {upload(std::vector<box::Emitters>{device_emitters}), upload(vpls),
                     host_lights.vpl_count};
         d.power = {upload(table_entries), table.size()};
-        d.bvh = {upload(bvh.nodes()), upload(bvh.paths()), bvh.view().count};
+        d.bvh = {upload(bvh.groups()), upload(bvh.paths()), bvh.view().count};
         point_device(d, pixels, entries);
     }
 

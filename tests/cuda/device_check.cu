@@ -299,7 +299,7 @@ int main() {
             position, i % 3u == 0u ? glm::vec3(0.0f) : glm::vec3(0.0f, -1.0f, 0.0f), power[i]);
     }
     const restir::LightBvh bvh(bounds);
-    const restir::LightBvhView device_bvh{upload(bvh.nodes()), upload(bvh.paths()), light_count};
+    const restir::LightBvhView device_bvh{upload(bvh.groups()), upload(bvh.paths()), light_count};
     BvhResult* device_bvh_out = nullptr;
     cudaMalloc(&device_bvh_out, pixels * sizeof(BvhResult));
     bvh_kernel<<<(pixels + 127) / 128, 128>>>(device_bvh, pixels, device_bvh_out);

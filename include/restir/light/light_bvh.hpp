@@ -131,8 +131,8 @@ public:
         paths_.assign(lights.size(), 0u);
         if (lights.empty())
             return;
-        nodes_.reserve(2u * lights.size());
-        nodes_.resize(1u);
+        groups_.reserve(lights.size() / (LightBvhView::arity - 1u) + 1u);
+        groups_.resize(1u);
         std::vector<std::uint32_t> order(lights.size());
         std::iota(order.begin(), order.end(), 0u);
         build(order, 0u, order.size(), 0u, 0u, 0u);
@@ -140,9 +140,9 @@ public:
     }
 
     LightBvhView view() const noexcept {
-        return {nodes_.data(), paths_.data(), static_cast<std::uint32_t>(paths_.size())};
+        return {groups_.data(), paths_.data(), static_cast<std::uint32_t>(paths_.size())};
     }
-    const std::vector<LightBvhNode>& nodes() const noexcept { return nodes_; }
+    const std::vector<LightBvhGroup>& groups() const noexcept { return groups_; }
     const std::vector<std::uint64_t>& paths() const noexcept { return paths_; }
 
 private:
@@ -154,17 +154,10 @@ private:
         return true;
     }
 
-    // Builds node `index` over order[begin, end), at `depth` with `path` from the root, and
-    // returns its bounds.
+    // Fills group `index` with the children of the node over order[begin, end), a node `depth`
+    // groups below the root reached by `path`, and returns the node's bounds.
     LightBounds build(std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end,
                       std::uint32_t index, std::uint32_t depth, std::uint64_t path) {
-        if (end - begin == 1u) {
-            const std::uint32_t id = order[begin];
-            nodes_[index] = light_bvh_node(lights_[id]);
-            nodes_[index].child_or_light = LightBvhNode::leaf_bit | id;
-            paths_[id] = path | (std::uint64_t{depth} << LightBvhView::depth_shift);
-            return lights_[id];
-        }
         // The children's ranges: one light each for up to four, else the quarters.
         constexpr std::uint32_t arity = LightBvhView::arity;
         std::size_t bounds_of_part[arity + 1u] = {begin, begin, begin, begin, end};
@@ -177,21 +170,29 @@ private:
             bounds_of_part[2] = middle;
             bounds_of_part[3] = split(order, middle, end);
         }
-        const auto first = static_cast<std::uint32_t>(nodes_.size());
-        nodes_.resize(nodes_.size() + arity);
         LightBounds bounds; // empty
         for (std::uint32_t c = 0u; c < arity; ++c) {
-            if (bounds_of_part[c] == bounds_of_part[c + 1u]) {
-                // An unused child: a leaf without power, which no draw takes.
-                nodes_[first + c].child_or_light = LightBvhNode::leaf_bit;
-                continue;
+            const std::size_t first = bounds_of_part[c], last = bounds_of_part[c + 1u];
+            LightBvhNode child; // an unused lane: a leaf without power, which no draw takes
+            child.child_or_light = LightBvhNode::leaf_bit;
+            const std::uint64_t child_path = path | (std::uint64_t{c} << (2u * depth));
+            if (last - first == 1u) {
+                const std::uint32_t id = order[first];
+                child = light_bvh_node(lights_[id]);
+                child.child_or_light = LightBvhNode::leaf_bit | id;
+                paths_[id] = child_path | (std::uint64_t{depth + 1u} << LightBvhView::depth_shift);
+                bounds = merge_light_bounds(bounds, lights_[id]);
+            } else if (last - first > 1u) {
+                // The group right before its subtree: a descent reads forward in memory.
+                const auto group = static_cast<std::uint32_t>(groups_.size());
+                groups_.emplace_back();
+                const LightBounds below = build(order, first, last, group, depth + 1u, child_path);
+                child = light_bvh_node(below);
+                child.child_or_light = group;
+                bounds = merge_light_bounds(bounds, below);
             }
-            bounds = merge_light_bounds(bounds, build(order, bounds_of_part[c],
-                                                      bounds_of_part[c + 1u], first + c, depth + 1u,
-                                                      path | (std::uint64_t{c} << (2u * depth))));
+            groups_[index].set(c, child);
         }
-        nodes_[index] = light_bvh_node(bounds);
-        nodes_[index].child_or_light = first;
         return bounds;
     }
 
@@ -225,7 +226,7 @@ private:
     }
 
     std::span<const LightBounds> lights_; // while building
-    std::vector<LightBvhNode> nodes_;
+    std::vector<LightBvhGroup> groups_;
     std::vector<std::uint64_t> paths_;
 };
 

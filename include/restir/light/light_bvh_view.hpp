@@ -1,8 +1,8 @@
 /// @file light/light_bvh_view.hpp
 /// A bounding volume hierarchy over lights for spatially aware light selection (Conty Estevez
 /// and Kulla 2018, "Importance Sampling of Many Lights with Adaptive Tree Splitting"), as device
-/// code reads it: flat nodes, sampled by `LightBvhView`. Every node bounds its lights'
-/// positions (a box, kept as its centre and half diagonal), their emitted power, and the
+/// code reads it: flat groups of four children, sampled by `LightBvhView`. Every node bounds its
+/// lights' positions (a box, kept as its centre and half diagonal), their emitted power, and the
 /// directions they emit in (a cone of normals of half-angle theta_o, plus the emission spread
 /// theta_e beyond them). A light is drawn for a shading point by one stochastic descent that
 /// picks each child in proportion to an importance bound of its lights at the point; the pmf
@@ -25,7 +25,8 @@
 
 namespace restir {
 
-/// One node of the flat tree: 48 bytes.
+/// The bounds of one node (one light, or a group of lights) as `light_importance` weighs
+/// them: 48 bytes. The tree keeps them four by four, lane by lane, in `LightBvhGroup`s.
 struct LightBvhNode {
     glm::vec3 centre{0.0f};
     float radius = 0.0f; ///< Half the diagonal of the box.
@@ -34,8 +35,8 @@ struct LightBvhNode {
     float cos_theta_e = 0.0f;
     float power = 0.0f;
     float sin_theta_o = 0.0f;
-    /// A leaf: `leaf_bit` | the light id. Otherwise the index of the first of its
-    /// `LightBvhView::arity` children (the others follow it; unused ones have no power).
+    /// A leaf: `leaf_bit` | the light id. Otherwise the index of the `LightBvhGroup` of its
+    /// children.
     std::uint32_t child_or_light = 0u;
 
     static constexpr std::uint32_t leaf_bit = 0x80000000u;
@@ -62,6 +63,55 @@ RESTIR_HOST_DEVICE inline float sine_of(float cosine) noexcept {
 }
 } // namespace detail
 
+namespace detail {
+// The importance bound of Conty Estevez and Kulla 2018 (Eq. 3) from a node's fields: the one
+// formula of `light_importance` and of the four lanes of a `LightBvhGroup`. Selects rather than
+// branches throughout (the outcomes vary from node to node, and the lanes vectorise).
+RESTIR_HOST_DEVICE inline float importance_bound(glm::vec3 centre, float node_radius,
+                                                 glm::vec3 axis, float cos_theta_o,
+                                                 float sin_theta_o, float cos_theta_e, float power,
+                                                 const ShadingPoint& at) noexcept {
+    // For a region (at.radius > 0) the node's sphere grows by the region's radius: every
+    // direction from a point of the region to a point of the node lies within theta_b of the
+    // direction between their centres.
+    const float radius = node_radius + max_of(at.radius, 0.0f);
+    const glm::vec3 from_centre = at.position - centre;
+    const float distance_squared = glm::dot(from_centre, from_centre);
+    const float radius_squared = radius * radius;
+    const float inverse_distance =
+        distance_squared > 0.0f ? 1.0f / std::sqrt(distance_squared) : 0.0f;
+    const float falloff = 1.0f / max_of(distance_squared, radius_squared);
+    // Cosines as projections times 1 / d, sines as sqrt(d^2 - projection^2) / d: their square
+    // roots run beside the one of d^2 instead of after it, which shortens a draw's dependent
+    // chain of levels.
+    const float axis_projection = glm::dot(axis, from_centre);
+    const float normal_projection = -glm::dot(at.normal, from_centre);
+    const bool inside = distance_squared <= radius_squared;
+    const float sin_b = inside ? 0.0f : min_of(radius * inverse_distance, 1.0f);
+    const float cos_b =
+        inside ? -1.0f
+               : std::sqrt(max_of(distance_squared - radius_squared, 0.0f)) * inverse_distance;
+    const float cos_w = axis_projection * inverse_distance;
+    const float sin_w =
+        std::sqrt(max_of(distance_squared - axis_projection * axis_projection, 0.0f)) *
+        inverse_distance;
+    const float cos_x = cos_difference_clamped(sin_w, cos_w, sin_theta_o, cos_theta_o);
+    const float sin_x = sin_difference_clamped(sin_w, cos_w, sin_theta_o, cos_theta_o);
+    const float cos_emitted = cos_difference_clamped(sin_x, cos_x, sin_b, cos_b);
+    float importance = cos_emitted > cos_theta_e ? power * falloff * cos_emitted : 0.0f;
+    // The receiver term (theta_i between the unit normal and the direction to the centre); none
+    // for a zero normal.
+    const bool has_normal = at.normal.x != 0.0f || at.normal.y != 0.0f || at.normal.z != 0.0f;
+    const float cos_i = normal_projection * inverse_distance;
+    const float sin_i =
+        std::sqrt(max_of(distance_squared - normal_projection * normal_projection, 0.0f)) *
+        inverse_distance;
+    const float cos_received = cos_difference_clamped(sin_i, cos_i, sin_b, cos_b);
+    importance *= has_normal ? max_of(cos_received, 0.0f) : 1.0f;
+    return is_valid_weight(importance) ? importance : 0.0f;
+}
+} // namespace detail
+
 /// The importance bound of a node's lights at a shading point (Conty Estevez and Kulla 2018,
 /// Eq. 3): power cos(theta') / d^2, times cos(theta'_i) of the receiver, where d is the
 /// distance to the box's centre (at least its half diagonal), theta_b the half-angle of its
@@ -73,40 +123,61 @@ RESTIR_HOST_DEVICE inline float sine_of(float cosine) noexcept {
 /// point of a region `at`).
 RESTIR_HOST_DEVICE inline float light_importance(const LightBvhNode& node,
                                                  const ShadingPoint& at) noexcept {
-    // Selects rather than branches throughout: the outcomes vary from node to node.
-    // For a region (at.radius > 0) the node's sphere grows by the region's radius: every
-    // direction from a point of the region to a point of the node lies within theta_b of the
-    // direction between their centres.
-    const float radius = node.radius + max_of(at.radius, 0.0f);
-    const glm::vec3 from_centre = at.position - node.centre;
-    const float distance_squared = glm::dot(from_centre, from_centre);
-    const float radius_squared = radius * radius;
-    const float inverse_distance =
-        distance_squared > 0.0f ? 1.0f / std::sqrt(distance_squared) : 0.0f;
-    const glm::vec3 direction = from_centre * inverse_distance;
-    const bool inside = distance_squared <= radius_squared;
-    const float sphere_sine = min_of(radius * inverse_distance, 1.0f);
-    const float sin_b = inside ? 0.0f : sphere_sine;
-    const float cos_b = inside ? -1.0f : detail::sine_of(sphere_sine);
-    const float cos_w = glm::dot(node.axis, direction);
-    const float sin_w = detail::sine_of(cos_w);
-    const float cos_x =
-        detail::cos_difference_clamped(sin_w, cos_w, node.sin_theta_o, node.cos_theta_o);
-    const float sin_x =
-        detail::sin_difference_clamped(sin_w, cos_w, node.sin_theta_o, node.cos_theta_o);
-    const float cos_emitted = detail::cos_difference_clamped(sin_x, cos_x, sin_b, cos_b);
-    float importance = cos_emitted > node.cos_theta_e
-                           ? node.power * cos_emitted / max_of(distance_squared, radius_squared)
-                           : 0.0f;
-    const bool has_normal = at.normal.x != 0.0f || at.normal.y != 0.0f || at.normal.z != 0.0f;
-    if (has_normal) {
-        const float cos_i = -glm::dot(at.normal, direction);
-        const float cos_received =
-            detail::cos_difference_clamped(detail::sine_of(cos_i), cos_i, sin_b, cos_b);
-        importance *= max_of(cos_received, 0.0f);
-    }
-    return is_valid_weight(importance) ? importance : 0.0f;
+    return detail::importance_bound(node.centre, node.radius, node.axis, node.cos_theta_o,
+                                    node.sin_theta_o, node.cos_theta_e, node.power, at);
 }
+
+/// The children of one interior node of the flat tree, lane c for child c: a structure of
+/// arrays, so that the four importance bounds of a level compute side by side in vector
+/// registers. The fields are those of `LightBvhNode`; 192 bytes, three cache lines. An unused
+/// lane is a leaf without power, which no draw takes.
+struct alignas(64) LightBvhGroup {
+    static constexpr std::uint32_t lanes = 4u;
+
+    float centre_x[lanes], centre_y[lanes], centre_z[lanes];
+    float radius[lanes];
+    float axis_x[lanes], axis_y[lanes], axis_z[lanes];
+    float cos_theta_o[lanes], sin_theta_o[lanes], cos_theta_e[lanes];
+    float power[lanes];
+    /// A leaf: `LightBvhNode::leaf_bit` | the light id. Otherwise the index of the group of its
+    /// children.
+    std::uint32_t child_or_light[lanes];
+
+    RESTIR_HOST_DEVICE constexpr bool is_leaf(std::uint32_t lane) const noexcept {
+        return (child_or_light[lane] & LightBvhNode::leaf_bit) != 0u;
+    }
+    /// Lane `lane` from the fields of `node` (its `child_or_light` included).
+    void set(std::uint32_t lane, const LightBvhNode& node) noexcept {
+        centre_x[lane] = node.centre.x;
+        centre_y[lane] = node.centre.y;
+        centre_z[lane] = node.centre.z;
+        radius[lane] = node.radius;
+        axis_x[lane] = node.axis.x;
+        axis_y[lane] = node.axis.y;
+        axis_z[lane] = node.axis.z;
+        cos_theta_o[lane] = node.cos_theta_o;
+        sin_theta_o[lane] = node.sin_theta_o;
+        cos_theta_e[lane] = node.cos_theta_e;
+        power[lane] = node.power;
+        child_or_light[lane] = node.child_or_light;
+    }
+    /// The importance bounds of the four children at `at` (`light_importance` of each), and
+    /// their sum.
+    RESTIR_HOST_DEVICE float importance(const ShadingPoint& at, float (&out)[lanes]) const {
+        for (std::uint32_t c = 0u; c < lanes; ++c)
+            out[c] = detail::importance_bound(glm::vec3(centre_x[c], centre_y[c], centre_z[c]),
+                                              radius[c], glm::vec3(axis_x[c], axis_y[c], axis_z[c]),
+                                              cos_theta_o[c], sin_theta_o[c], cos_theta_e[c],
+                                              power[c], at);
+        float total = 0.0f;
+        for (std::uint32_t c = 0u; c < lanes; ++c)
+            total += out[c];
+        return total;
+    }
+};
+
+static_assert(std::is_trivially_copyable_v<LightBvhGroup>);
+static_assert(sizeof(LightBvhGroup) == 192u);
 
 /// The flat tree as a `ContextLightSampler` (concepts.hpp). A view: the `LightBvh` it came
 /// from must outlive it (copy its arrays to the device for a kernel).
@@ -114,11 +185,12 @@ struct LightBvhView {
     /// Children per interior node. Four rather than two halve the dependent levels of a draw,
     /// and each choice weighs tighter bounds: the pmf follows the lights more closely (RIS with
     /// it had 3.5 times less error per candidate on the many-lights scene; docs/performance.md).
-    static constexpr std::uint32_t arity = 4u;
+    static constexpr std::uint32_t arity = LightBvhGroup::lanes;
 
-    const LightBvhNode* nodes = nullptr;
-    /// Per light: the path from the root, bits [2k, 2k + 2) the child taken at depth k, and
-    /// the depth in the top `depth_shift` bits.
+    /// Group 0 holds the root's children (for one light: the light and three unused lanes).
+    const LightBvhGroup* groups = nullptr;
+    /// Per light: the path from the root, bits [2k, 2k + 2) the lane taken in the k-th group
+    /// of the descent, and the number of groups passed in the top `depth_shift` bits.
     const std::uint64_t* paths = nullptr;
     std::uint32_t count = 0u; ///< Lights.
 
@@ -134,16 +206,16 @@ struct LightBvhView {
     RESTIR_HOST_DEVICE DiscreteSample sample(const ShadingPoint& at, float u0, float u1) const {
         if (count == 0u)
             return {};
-        std::uint32_t node = 0u;
+        std::uint32_t group = 0u;
         float pmf = 1.0f;
         float u = u0;
-        for (std::uint32_t depth = 0u; !nodes[node].is_leaf(); ++depth) {
+        for (std::uint32_t depth = 0u;; ++depth) {
             if (depth == levels_per_number)
                 u = u1;
-            prefetch_grandchildren(nodes[node]);
-            const std::uint32_t first = nodes[node].child_or_light;
+            const LightBvhGroup& g = groups[group];
+            prefetch_children(g);
             float importance[arity];
-            const float total = children_importance(first, at, importance);
+            const float total = g.importance(at, importance);
             if (!(total > 0.0f)) // no child can light `at`
                 return {};
             // The child whose interval of the cumulative importance holds u total, by counting
@@ -166,12 +238,11 @@ struct LightBvhView {
                 before += importance[c];
             }
             pmf *= chosen / total;
-            node = first + child;
+            if (g.is_leaf(child))
+                return {g.child_or_light[child] & ~LightBvhNode::leaf_bit, pmf};
+            group = g.child_or_light[child];
             u = min_of(max_of((x - start) / chosen, 0.0f), 0x1.fffffep-1f);
         }
-        if (count == 1u && !(light_importance(nodes[0], at) > 0.0f))
-            return {};
-        return {nodes[node].child_or_light & ~LightBvhNode::leaf_bit, pmf};
     }
 
     /// The probability that `sample(at, ...)` returns light `id`: the same descent along the
@@ -179,16 +250,14 @@ struct LightBvhView {
     RESTIR_HOST_DEVICE float pmf(const ShadingPoint& at, std::uint32_t id) const {
         if (id >= count)
             return 0.0f;
-        if (count == 1u)
-            return light_importance(nodes[0], at) > 0.0f ? 1.0f : 0.0f;
         const std::uint64_t path = paths[id];
         const auto depth = static_cast<std::uint32_t>(path >> depth_shift);
-        std::uint32_t node = 0u;
+        std::uint32_t group = 0u;
         float pmf = 1.0f;
         for (std::uint32_t level = 0u; level < depth; ++level) {
-            const std::uint32_t first = nodes[node].child_or_light;
+            const LightBvhGroup& g = groups[group];
             float importance[arity];
-            const float total = children_importance(first, at, importance);
+            const float total = g.importance(at, importance);
             if (!(total > 0.0f))
                 return 0.0f;
             const auto child = static_cast<std::uint32_t>(path >> (2u * level) & 3u);
@@ -196,40 +265,27 @@ struct LightBvhView {
             for (std::uint32_t c = 0u; c < arity; ++c)
                 chosen = c == child ? importance[c] : chosen;
             pmf *= chosen / total;
-            node = first + child;
+            group = g.child_or_light[child];
         }
         return pmf;
     }
 
 private:
-    // On the host, asks for the children of every interior child while their parent's children
-    // are being weighed: at a million lights the nodes below the top levels are not in cache,
-    // and the loads would otherwise wait for the choice. (A group of four is 192 bytes.)
-    RESTIR_HOST_DEVICE void prefetch_grandchildren(const LightBvhNode& parent) const {
+    // On the host, asks for the groups of every interior child while the children are being
+    // weighed: at a million lights the groups below the top levels are not in cache, and the
+    // loads would otherwise wait for the choice.
+    RESTIR_HOST_DEVICE void prefetch_children(const LightBvhGroup& g) const {
 #if (defined(__GNUC__) || defined(__clang__)) && !defined(__CUDA_ARCH__)
         for (std::uint32_t c = 0u; c < arity; ++c) {
-            const LightBvhNode& child = nodes[parent.child_or_light + c];
-            if (!child.is_leaf()) {
-                const char* group = reinterpret_cast<const char*>(&nodes[child.child_or_light]);
-                for (std::uint32_t line = 0u; line < arity * sizeof(LightBvhNode); line += 64u)
-                    __builtin_prefetch(group + line);
+            if (!g.is_leaf(c)) {
+                const char* child = reinterpret_cast<const char*>(&groups[g.child_or_light[c]]);
+                for (std::uint32_t line = 0u; line < sizeof(LightBvhGroup); line += 64u)
+                    __builtin_prefetch(child + line);
             }
         }
 #else
-        (void)parent;
+        (void)g;
 #endif
-    }
-
-    // The importance of the children of an interior node whose first child is `first`, and
-    // their sum.
-    RESTIR_HOST_DEVICE float children_importance(std::uint32_t first, const ShadingPoint& at,
-                                                 float (&importance)[arity]) const {
-        float total = 0.0f;
-        for (std::uint32_t c = 0u; c < arity; ++c) {
-            importance[c] = light_importance(nodes[first + c], at);
-            total += importance[c];
-        }
-        return total;
     }
 };
 
