@@ -139,8 +139,8 @@ __global__ void tile_kernel(restir::PresampledLight* entries, const glm::vec3* e
     out[i] = r.with_sample(e.reference).contribution_weight;
 }
 
-// Spatially aware candidates: a draw and a pmf from the light BVH at a shading point, and a
-// grid cell's tile entry drawn for a region (ReGIR).
+// Spatially aware candidates: a draw and a pmf from the light BVH at a shading point, four
+// draws at once, and a grid cell's tile entry drawn for a region (ReGIR).
 __global__ void light_bvh_kernel(restir::LightBvhView bvh, const glm::vec3* emitters,
                                  restir::PresampledLight* cell_entries, float* out) {
     const auto i = static_cast<std::uint32_t>(blockIdx.x * blockDim.x + threadIdx.x);
@@ -152,7 +152,10 @@ __global__ void light_bvh_kernel(restir::LightBvhView bvh, const glm::vec3* emit
     const restir::ShadingPoint cell{at.position, glm::vec3(0.0f), 0.5f};
     const PointEmitters lights{emitters, bvh.light_count()};
     cell_entries[i] = restir::presample_light(bvh, cell, lights, rng);
-    out[i] = c.pdf + bvh.pmf(at, c.sample.light_id);
+    const float u0[4] = {0.1f, 0.3f, 0.6f, 0.9f}, u1[4] = {0.2f, 0.4f, 0.7f, 0.8f};
+    restir::DiscreteSample four[4];
+    bvh.sample(at, u0, u1, four);
+    out[i] = c.pdf + bvh.pmf(at, c.sample.light_id) + four[0].pmf + four[3].pmf;
 }
 
 // Batch RIS over structure-of-arrays tiles, with reservoirs that carry their light point:

@@ -225,6 +225,40 @@ TEST(LightBvh, PointsNoLightReachesDrawNothing) {
     EXPECT_GT(view.sample(above, 0.3f, 0.7f).pmf, 0.0f);
 }
 
+// The batch overload's draws are the single draws, bit for bit, including "no light" at points
+// no light reaches and light counts whose trees end at different depths.
+TEST(LightBvh, BatchDrawsEqualSingleDraws) {
+    for (const std::uint32_t light_count : {1u, 5u, 1000u, 20000u}) {
+        const std::vector<TestLight> lights = test_lights(light_count, 41u);
+        const restir::LightBvh bvh(bounds_of(lights));
+        const restir::LightBvhView view = bvh.view();
+        restir::Pcg32 rng = restir::make_pixel_rng(5u, 0u, 0u, 42u);
+        for (int point = 0; point < 200; ++point) {
+            const ShadingPoint at = random_point(rng);
+            float u0[8], u1[8];
+            for (int k = 0; k < 8; ++k) {
+                u0[k] = next_float(rng);
+                u1[k] = next_float(rng);
+            }
+            restir::DiscreteSample batch[8];
+            view.sample(at, u0, u1, batch);
+            for (int k = 0; k < 8; ++k) {
+                const restir::DiscreteSample single = view.sample(at, u0[k], u1[k]);
+                ASSERT_EQ(batch[k].pmf, single.pmf) << light_count << " lights, draw " << k;
+                if (single.pmf > 0.0f) {
+                    ASSERT_EQ(batch[k].index, single.index) << light_count << " lights, draw " << k;
+                }
+            }
+        }
+    }
+    const restir::LightBvh none(std::vector<LightBounds>{});
+    const float u[2] = {0.5f, 0.25f};
+    restir::DiscreteSample out[2] = {{3u, 1.0f}, {3u, 1.0f}};
+    none.view().sample(ShadingPoint{}, u, u, out);
+    EXPECT_EQ(out[0].pmf, 0.0f);
+    EXPECT_EQ(out[1].pmf, 0.0f);
+}
+
 TEST(LightBvh, OneLightAndNoLights) {
     const std::vector<LightBounds> one = {
         restir::point_light_bounds(glm::vec3(0.0f), glm::vec3(0.0f, 0.0f, 1.0f), 2.0f)};

@@ -206,43 +206,33 @@ struct LightBvhView {
     RESTIR_HOST_DEVICE DiscreteSample sample(const ShadingPoint& at, float u0, float u1) const {
         if (count == 0u)
             return {};
-        std::uint32_t group = 0u;
-        float pmf = 1.0f;
-        float u = u0;
-        for (std::uint32_t depth = 0u;; ++depth) {
-            if (depth == levels_per_number)
-                u = u1;
-            const LightBvhGroup& g = groups[group];
-            prefetch_children(g);
-            float importance[arity];
-            const float total = g.importance(at, importance);
-            if (!(total > 0.0f)) // no child can light `at`
-                return {};
-            // The child whose interval of the cumulative importance holds u total, by counting
-            // (selects, not branches: which child wins is random); never one of importance 0.
-            const float x = u * total;
-            float before = 0.0f, start = 0.0f, chosen = 0.0f;
-            std::uint32_t child = 0u, last_positive = 0u;
-            for (std::uint32_t c = 0u; c < arity; ++c) {
-                const float after = before + importance[c];
-                const bool passed = c + 1u < arity && after <= x;
-                child += passed ? 1u : 0u;
-                last_positive = importance[c] > 0.0f ? c : last_positive;
-                before = after;
+        Descent descent{u0, u1};
+        while (!descent.done)
+            step(at, descent);
+        return descent.result;
+    }
+
+    /// `Count` draws for one shading point at once: draw k is `sample(at, u0[k], u1[k])`,
+    /// exactly. The descents advance a level at a time side by side, so that a CPU overlaps
+    /// their chains of dependent levels (and their cache misses) instead of waiting on each in
+    /// turn (the chains, not the arithmetic, bound a single draw). On a GPU prefer single draws:
+    /// the batch's descents are indexed at run time and live in local memory.
+    template <std::uint32_t Count>
+    RESTIR_HOST_DEVICE void sample(const ShadingPoint& at, const float (&u0)[Count],
+                                   const float (&u1)[Count], DiscreteSample (&out)[Count]) const {
+        Descent descents[Count];
+        for (std::uint32_t k = 0u; k < Count; ++k)
+            descents[k] = Descent{u0[k], u1[k], count == 0u};
+        for (bool active = count > 0u; active;) {
+            active = false;
+            for (std::uint32_t k = 0u; k < Count; ++k) {
+                if (!descents[k].done)
+                    step(at, descents[k]);
+                active = active || !descents[k].done;
             }
-            child = min_of(child, last_positive);
-            before = 0.0f;
-            for (std::uint32_t c = 0u; c < arity; ++c) {
-                start = c == child ? before : start;
-                chosen = c == child ? importance[c] : chosen;
-                before += importance[c];
-            }
-            pmf *= chosen / total;
-            if (g.is_leaf(child))
-                return {g.child_or_light[child] & ~LightBvhNode::leaf_bit, pmf};
-            group = g.child_or_light[child];
-            u = min_of(max_of((x - start) / chosen, 0.0f), 0x1.fffffep-1f);
         }
+        for (std::uint32_t k = 0u; k < Count; ++k)
+            out[k] = descents[k].result;
     }
 
     /// The probability that `sample(at, ...)` returns light `id`: the same descent along the
@@ -271,6 +261,75 @@ struct LightBvhView {
     }
 
 private:
+    // A draw under way: the group it is at, its depth, its pmf so far and its numbers.
+    struct Descent {
+        float u = 0.0f;
+        float u_deep = 0.0f; // steers the levels from `levels_per_number` on
+        bool done = false;
+        std::uint32_t group = 0u;
+        std::uint32_t depth = 0u;
+        float pmf = 1.0f;
+        DiscreteSample result{};
+    };
+
+    // One level of a draw: weighs the children of its group and takes one, in proportion to
+    // their importance; ends the draw at a leaf, or where no child can light `at`.
+    RESTIR_HOST_DEVICE void step(const ShadingPoint& at, Descent& d) const {
+        if (d.depth == levels_per_number)
+            d.u = d.u_deep;
+        const LightBvhGroup& g = groups[d.group];
+        prefetch_children(g);
+        float importance[arity];
+        const float total = g.importance(at, importance);
+        if (!(total > 0.0f)) { // no child can light `at`
+            d.done = true;
+            return;
+        }
+        // The child whose interval of the cumulative importance holds u total: the number of
+        // inclusive prefix sums at or below it, never past the last child of importance > 0
+        // (children of importance 0 have empty intervals). Its interval's start and its
+        // importance are gathered without branches: which child wins is random.
+        const float x = d.u * total;
+        float prefix[arity];
+        float running = 0.0f;
+        for (std::uint32_t c = 0u; c < arity; ++c) {
+            running += importance[c];
+            prefix[c] = running;
+        }
+        std::uint32_t child = 0u, last_positive = 0u;
+        for (std::uint32_t c = 0u; c < arity; ++c) {
+            child += c + 1u < arity && prefix[c] <= x ? 1u : 0u;
+            last_positive = importance[c] > 0.0f ? c : last_positive;
+        }
+        child = min_of(child, last_positive);
+#if defined(__CUDA_ARCH__)
+        std::uint32_t start_bits = 0u, chosen_bits = 0u;
+        for (std::uint32_t c = 0u; c < arity; ++c) {
+            const std::uint32_t mask = 0u - (c == child ? 1u : 0u);
+            start_bits |= __builtin_bit_cast(std::uint32_t, c == 0u ? 0.0f : prefix[c - 1u]) & mask;
+            chosen_bits |= __builtin_bit_cast(std::uint32_t, importance[c]) & mask;
+        }
+        const float start = __builtin_bit_cast(float, start_bits);
+        const float chosen = __builtin_bit_cast(float, chosen_bits);
+#else
+        // On a CPU, loads at a runtime index (compilers turn the masks into branches).
+        float before_child[arity];
+        for (std::uint32_t c = 0u; c < arity; ++c)
+            before_child[c] = c == 0u ? 0.0f : prefix[c - 1u];
+        const float start = before_child[child];
+        const float chosen = importance[child];
+#endif
+        d.pmf *= chosen / total;
+        if (g.is_leaf(child)) {
+            d.done = true;
+            d.result = {g.child_or_light[child] & ~LightBvhNode::leaf_bit, d.pmf};
+            return;
+        }
+        d.group = g.child_or_light[child];
+        d.u = min_of(max_of((x - start) / chosen, 0.0f), 0x1.fffffep-1f);
+        ++d.depth;
+    }
+
     // On the host, asks for the groups of every interior child while the children are being
     // weighed: at a million lights the groups below the top levels are not in cache, and the
     // loads would otherwise wait for the choice.
