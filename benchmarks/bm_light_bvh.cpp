@@ -91,10 +91,11 @@ void BM_LightBvh_Sample(benchmark::State& state) {
 }
 BENCHMARK(BM_LightBvh_Sample)->Arg(1000)->Arg(1 << 20);
 
-// Eight draws at each shading point through the batch overload, whose descents advance side
-// by side (the renderer's `--source bvh` with 8 candidates); "per_draw" is the time of one.
+// `Batch` draws at each shading point through the batch overload, whose descents advance side
+// by side (the renderer's `--source bvh` draws its candidates four at a time); "per_draw" is
+// the time of one.
+template <std::uint32_t batch>
 void BM_LightBvh_SampleBatch(benchmark::State& state) {
-    constexpr std::uint32_t batch = 8u;
     const restir::LightBvhView view = bvh(static_cast<std::uint32_t>(state.range(0))).view();
     restir::Pcg32 rng = restir::make_pixel_rng(1u, 0u, 0u, 1u);
     std::uint32_t i = 0u, found = 0u;
@@ -116,7 +117,8 @@ void BM_LightBvh_SampleBatch(benchmark::State& state) {
     state.counters["per_draw"] = benchmark::Counter(
         batch, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
-BENCHMARK(BM_LightBvh_SampleBatch)->Arg(1000)->Arg(1 << 20);
+BENCHMARK(BM_LightBvh_SampleBatch<4>)->Arg(1000)->Arg(1 << 20);
+BENCHMARK(BM_LightBvh_SampleBatch<8>)->Arg(1000)->Arg(1 << 20);
 
 void BM_LightBvh_Pmf(benchmark::State& state) {
     const auto count = static_cast<std::uint32_t>(state.range(0));

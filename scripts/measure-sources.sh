@@ -3,8 +3,9 @@
 # a reference, then RIS and ReSTIR with power, bvh and grid candidates at several candidate
 # counts; for each run the mean frame time and the mean per-frame MSE (the last frame alone
 # against the reference, frame_rmse^2) over frames 2..N, one line each, so that runs of equal
-# time can be compared. Work files: out/sources/.
+# time can be compared. Work files: out/sources-WIDTHxHEIGHT/.
 # Usage: scripts/measure-sources.sh [WIDTH HEIGHT FRAMES REFERENCE_SPP]  (default 640 360 12 1024)
+# SCENES="many-lights-100k many-lights-1M" measures those scenes alone; RUNS as below.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
@@ -15,7 +16,7 @@ reference_spp=${4:-1024}
 
 bash scripts/render.sh --width 8 --height 8 --frames 1 --out out/warm-up.png >/dev/null
 render=build/render/examples/pathtracer/restir-render
-dir=out/sources
+dir=out/sources-${width}x${height}
 mkdir -p "$dir"
 
 scenes=(
@@ -37,6 +38,7 @@ summary() { # CSV: mean frame_ms and mean frame_rmse^2 over frames 2..N
 echo "scene method source candidates frame_ms frame_mse"
 for entry in "${scenes[@]}"; do
   name=${entry%%|*}
+  [[ -z "${SCENES:-}" || " $SCENES " == *" $name "* ]] || continue
   read -r -a args <<<"${entry#*|}"
   common=("${args[@]}" --width "$width" --height "$height")
   reference=$dir/$name-reference.exr

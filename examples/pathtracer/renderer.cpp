@@ -664,15 +664,31 @@ struct Renderer::Impl {
     }
 
     // Streaming RIS over candidates drawn from the light BVH for the pixel's surface (the
-    // source pdf: the light's pmf there).
+    // source pdf: the light's pmf there), four draws at a time while four or more remain: their
+    // descents advance side by side (light/light_bvh_view.hpp), about twice the draws a second.
     Reservoir bvh_reservoir(const GSurface& s, restir::Pcg32& rng) const {
+        constexpr std::uint32_t batch = 4;
         const restir::LightBvhView bvh = light_bvh->view();
         const restir::ShadingPoint at{s.position, s.normal};
+        restir::DiscreteSample drawn[batch];
+        std::uint32_t taken = 0, ready = 0; // candidates taken, and drawn ahead in `drawn`
         return restir::resample_ris(
             rng, settings.candidates,
             [&](restir::Pcg32& g) {
+                if (ready == 0u && settings.candidates - taken >= batch) {
+                    float u0[batch], u1[batch];
+                    for (std::uint32_t k = 0; k < batch; ++k) {
+                        u0[k] = next_float(g);
+                        u1[k] = next_float(g);
+                    }
+                    bvh.sample(at, u0, u1, drawn);
+                    ready = batch;
+                }
+                const restir::DiscreteSample choice =
+                    ready > 0u ? drawn[batch - ready--] : restir::sample_light(bvh, at, g);
+                ++taken;
                 const restir::SourceSample<restir::LightSampleRef> c =
-                    restir::draw_light_candidate(bvh, at, g);
+                    restir::with_uniform_point(choice, g);
                 restir::SourceSample<restir::LightPointSample> candidate{{}, c.pdf};
                 if (c.pdf > 0.0f)
                     candidate.sample = restir::make_light_point_sample(
