@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # The candidate sources side by side (docs/performance.md, "Candidate sources"): for each scene
 # a reference, then RIS and ReSTIR with power, bvh and grid candidates at several candidate
-# counts; for each run the mean frame time and the mean per-frame MSE (the last frame alone
-# against the reference, frame_rmse^2) over frames 2..N, one line each, so that runs of equal
-# time can be compared. Work files: out/sources-WIDTHxHEIGHT/.
+# counts; for each run the mean frame time and the mean and median per-frame MSE (the last
+# frame alone against the reference, frame_rmse^2) over frames 2..N, one line each, so that
+# runs of equal time can be compared (the median is the steadier where rare bright pixels make
+# a few frames' error many times the others'). Work files: out/sources-WIDTHxHEIGHT/.
 # Usage: scripts/measure-sources.sh [WIDTH HEIGHT FRAMES REFERENCE_SPP]  (default 640 360 12 1024)
 # SCENES="many-lights-100k many-lights-1M" measures those scenes alone; RUNS as below.
 set -euo pipefail
@@ -29,13 +30,15 @@ scenes=(
 # SOURCE:CANDIDATES runs; RUNS="bvh:1 bvh:4" measures those alone.
 read -r -a runs <<<"${RUNS:-power:32 power:128 power:512 bvh:1 bvh:4 grid:32 grid:128}"
 
-summary() { # CSV: mean frame_ms and mean frame_rmse^2 over frames 2..N
-  awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) c[$i] = i; next }
-    NR > 2 { t += $c["frame_ms"]; e += $c["frame_rmse"] ^ 2; ++n }
-    END { printf "%.1f %.4g", t / n, e / n }' "$1"
+summary() { # CSV: mean frame_ms, mean and median frame_rmse^2 over frames 2..N
+  local column='NR == 1 { for (i = 1; i <= NF; ++i) c[$i] = i; next }'
+  awk -F, "$column"' NR > 2 { t += $c["frame_ms"]; e += $c["frame_rmse"] ^ 2; ++n }
+    END { printf "%.1f %.4g ", t / n, e / n }' "$1"
+  awk -F, "$column"' NR > 2 { printf "%.9g\n", $c["frame_rmse"] ^ 2 }' "$1" | sort -g |
+    awk '{ v[NR] = $1 } END { printf "%.4g", NR % 2 ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'
 }
 
-echo "scene method source candidates frame_ms frame_mse"
+echo "scene method source candidates frame_ms frame_mse frame_mse_median"
 for entry in "${scenes[@]}"; do
   name=${entry%%|*}
   [[ -z "${SCENES:-}" || " $SCENES " == *" $name "* ]] || continue

@@ -225,6 +225,39 @@ TEST(LightBvh, PointsNoLightReachesDrawNothing) {
     EXPECT_GT(view.sample(above, 0.3f, 0.7f).pmf, 0.0f);
 }
 
+// A group's four bounds, computed side by side (in SSE registers on x86-64), equal
+// `light_importance` of each child bit for bit (this file is compiled without contraction into
+// fused multiply-adds, as device code is with -fmad=false): at points, at regions, without a
+// normal, inside the children's spheres, and at a child's centre.
+TEST(LightBvh, GroupBoundsEqualEachChildsBound) {
+    const std::vector<TestLight> lights = test_lights(5000u, 51u);
+    const restir::LightBvh bvh(bounds_of(lights));
+    restir::Pcg32 rng = restir::make_pixel_rng(6u, 0u, 0u, 52u);
+    std::uint32_t positive = 0u;
+    for (const restir::LightBvhGroup& group : bvh.groups()) {
+        for (int k = 0; k < 8; ++k) {
+            ShadingPoint at = random_point(rng);
+            if (k == 1)
+                at.normal = glm::vec3(0.0f);
+            if (k == 2)
+                at.radius = 2.0f * next_float(rng);
+            if (k == 3)
+                at.position = group.node(0u).centre;
+            float bounds[restir::LightBvhGroup::lanes];
+            const float total = group.importance(at, bounds);
+            float sum = 0.0f;
+            for (std::uint32_t c = 0u; c < restir::LightBvhGroup::lanes; ++c) {
+                const float expected = restir::light_importance(group.node(c), at);
+                ASSERT_EQ(bounds[c], expected) << "lane " << c << ", point " << k;
+                positive += expected > 0.0f ? 1u : 0u;
+                sum += expected;
+            }
+            ASSERT_EQ(total, sum);
+        }
+    }
+    EXPECT_GT(positive, bvh.groups().size()); // most cases have something to compare
+}
+
 // The batch overload's draws are the single draws, bit for bit, including "no light" at points
 // no light reaches and light counts whose trees end at different depths.
 TEST(LightBvh, BatchDrawsEqualSingleDraws) {
