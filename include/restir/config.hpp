@@ -19,6 +19,14 @@
 #define RESTIR_DEVICE_COMPILER 0
 #endif
 
+/// Before a loop of a compile-time trip count over a small array: in device code, unrolls it so
+/// that the array's indices are constants and it stays in registers (not local memory).
+#if defined(__CUDA_ARCH__)
+#define RESTIR_UNROLL _Pragma("unroll")
+#else
+#define RESTIR_UNROLL
+#endif
+
 /// Debug assertion on internal invariants. Define RESTIR_ASSERT before including any restir
 /// header to route it elsewhere; by default it follows `assert` (off under NDEBUG).
 #ifndef RESTIR_ASSERT

@@ -225,10 +225,11 @@ TEST(LightBvh, PointsNoLightReachesDrawNothing) {
     EXPECT_GT(view.sample(above, 0.3f, 0.7f).pmf, 0.0f);
 }
 
-// A group's four bounds, computed side by side (in SSE registers on x86-64), equal
-// `light_importance` of each child bit for bit (this file is compiled without contraction into
-// fused multiply-adds, as device code is with -fmad=false): at points, at regions, without a
-// normal, inside the children's spheres, and at a child's centre.
+// A group's four bounds, computed side by side (the loop a compiler vectorises), equal
+// `light_importance` of each child as `node` reads it back, bit for bit (this file is compiled
+// without contraction into fused multiply-adds, which a vectorised and a scalar evaluation could
+// apply differently): at points, at regions, without a normal, inside the children's spheres,
+// and at a child's centre.
 TEST(LightBvh, GroupBoundsEqualEachChildsBound) {
     const std::vector<TestLight> lights = test_lights(5000u, 51u);
     const restir::LightBvh bvh(bounds_of(lights));

@@ -23,15 +23,6 @@
 #include <cstdint>
 #include <type_traits>
 
-// The four bounds of a group in SSE registers on x86-64 hosts (SSE2 is part of the baseline);
-// elsewhere, and in device code, a plain loop.
-#if defined(__SSE2__) && !defined(__CUDA_ARCH__)
-#define RESTIR_LIGHT_BVH_SSE 1
-#include <emmintrin.h>
-#else
-#define RESTIR_LIGHT_BVH_SSE 0
-#endif
-
 namespace restir {
 
 /// The bounds of one node (one light, or a group of lights) as `light_importance` weighs
@@ -191,88 +182,6 @@ struct alignas(64) LightBvhGroup {
 static_assert(std::is_trivially_copyable_v<LightBvhGroup>);
 static_assert(sizeof(LightBvhGroup) == 192u);
 
-#if RESTIR_LIGHT_BVH_SSE
-namespace detail {
-// The operations of `importance_bound` on four lanes, each rounding as its scalar form does
-// (no fused multiply-adds), so that the host's draws equal a GPU's.
-struct Sse4 {
-    static __m128 all(float v) { return _mm_set1_ps(v); }
-    static __m128 select(__m128 mask, __m128 a, __m128 b) {
-        return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b));
-    }
-    // min_of(a, b) = b < a ? b : a and max_of(a, b) = a < b ? b : a (math.hpp), NaN included.
-    static __m128 min(__m128 a, __m128 b) { return _mm_min_ps(b, a); }
-    static __m128 max(__m128 a, __m128 b) { return _mm_max_ps(b, a); }
-    static __m128 dot(__m128 ax, __m128 ay, __m128 az, __m128 bx, __m128 by, __m128 bz) {
-        return _mm_add_ps(_mm_add_ps(_mm_mul_ps(ax, bx), _mm_mul_ps(ay, by)), _mm_mul_ps(az, bz));
-    }
-    static __m128 cos_difference_clamped(__m128 sin_a, __m128 cos_a, __m128 sin_b, __m128 cos_b) {
-        return select(_mm_cmpgt_ps(cos_a, cos_b), all(1.0f),
-                      _mm_add_ps(_mm_mul_ps(cos_a, cos_b), _mm_mul_ps(sin_a, sin_b)));
-    }
-    static __m128 sin_difference_clamped(__m128 sin_a, __m128 cos_a, __m128 sin_b, __m128 cos_b) {
-        return select(_mm_cmpgt_ps(cos_a, cos_b), _mm_setzero_ps(),
-                      _mm_sub_ps(_mm_mul_ps(sin_a, cos_b), _mm_mul_ps(cos_a, sin_b)));
-    }
-    // sqrt(max_of(d2 - p * p, 0)) * inverse_distance: the sine beside a projection p.
-    static __m128 sine_beside(__m128 distance_squared, __m128 projection, __m128 inverse_distance) {
-        const __m128 left = _mm_sub_ps(distance_squared, _mm_mul_ps(projection, projection));
-        return _mm_mul_ps(_mm_sqrt_ps(max(left, _mm_setzero_ps())), inverse_distance);
-    }
-};
-} // namespace detail
-
-// `detail::importance_bound` of the four lanes, step for step (see there for the formula).
-RESTIR_HOST_DEVICE inline float LightBvhGroup::importance(const ShadingPoint& at,
-                                                          float (&out)[lanes]) const {
-    using V = detail::Sse4;
-    const __m128 zero = _mm_setzero_ps(), one = V::all(1.0f);
-    const __m128 radius_ = _mm_add_ps(_mm_loadu_ps(radius), V::all(max_of(at.radius, 0.0f)));
-    const __m128 fx = _mm_sub_ps(V::all(at.position.x), _mm_loadu_ps(centre_x));
-    const __m128 fy = _mm_sub_ps(V::all(at.position.y), _mm_loadu_ps(centre_y));
-    const __m128 fz = _mm_sub_ps(V::all(at.position.z), _mm_loadu_ps(centre_z));
-    const __m128 distance_squared = V::dot(fx, fy, fz, fx, fy, fz);
-    const __m128 radius_squared = _mm_mul_ps(radius_, radius_);
-    const __m128 inverse_distance = V::select(_mm_cmpgt_ps(distance_squared, zero),
-                                              _mm_div_ps(one, _mm_sqrt_ps(distance_squared)), zero);
-    const __m128 falloff = _mm_div_ps(one, V::max(distance_squared, radius_squared));
-    const __m128 axis_projection =
-        V::dot(_mm_loadu_ps(axis_x), _mm_loadu_ps(axis_y), _mm_loadu_ps(axis_z), fx, fy, fz);
-    const __m128 normal_projection = _mm_xor_ps(
-        V::dot(V::all(at.normal.x), V::all(at.normal.y), V::all(at.normal.z), fx, fy, fz),
-        V::all(-0.0f));
-    const __m128 inside = _mm_cmple_ps(distance_squared, radius_squared);
-    const __m128 sin_b =
-        V::select(inside, zero, V::min(_mm_mul_ps(radius_, inverse_distance), one));
-    const __m128 cos_b = V::select(inside, V::all(-1.0f),
-                                   V::sine_beside(distance_squared, radius_, inverse_distance));
-    const __m128 cos_w = _mm_mul_ps(axis_projection, inverse_distance);
-    const __m128 sin_w = V::sine_beside(distance_squared, axis_projection, inverse_distance);
-    const __m128 sin_o = _mm_loadu_ps(sin_theta_o), cos_o = _mm_loadu_ps(cos_theta_o);
-    const __m128 cos_x = V::cos_difference_clamped(sin_w, cos_w, sin_o, cos_o);
-    const __m128 sin_x = V::sin_difference_clamped(sin_w, cos_w, sin_o, cos_o);
-    const __m128 cos_emitted = V::cos_difference_clamped(sin_x, cos_x, sin_b, cos_b);
-    __m128 bound =
-        V::select(_mm_cmpgt_ps(cos_emitted, _mm_loadu_ps(cos_theta_e)),
-                  _mm_mul_ps(_mm_mul_ps(_mm_loadu_ps(power), falloff), cos_emitted), zero);
-    const bool has_normal = at.normal.x != 0.0f || at.normal.y != 0.0f || at.normal.z != 0.0f;
-    if (has_normal) {
-        const __m128 cos_i = _mm_mul_ps(normal_projection, inverse_distance);
-        const __m128 sin_i = V::sine_beside(distance_squared, normal_projection, inverse_distance);
-        bound =
-            _mm_mul_ps(bound, V::max(V::cos_difference_clamped(sin_i, cos_i, sin_b, cos_b), zero));
-    }
-    // is_valid_weight: the bits of a finite, non-negative float lie in [0, 0x7f800000).
-    const __m128i bits = _mm_castps_si128(bound);
-    const __m128i valid = _mm_and_si128(_mm_cmpgt_epi32(bits, _mm_set1_epi32(-1)),
-                                        _mm_cmplt_epi32(bits, _mm_set1_epi32(0x7f800000)));
-    _mm_storeu_ps(out, _mm_and_ps(bound, _mm_castsi128_ps(valid)));
-    float total = 0.0f;
-    for (std::uint32_t c = 0u; c < lanes; ++c)
-        total += out[c];
-    return total;
-}
-#else
 RESTIR_HOST_DEVICE inline float LightBvhGroup::importance(const ShadingPoint& at,
                                                           float (&out)[lanes]) const {
     for (std::uint32_t c = 0u; c < lanes; ++c)
@@ -285,7 +194,6 @@ RESTIR_HOST_DEVICE inline float LightBvhGroup::importance(const ShadingPoint& at
         total += out[c];
     return total;
 }
-#endif
 
 /// The flat tree as a `ContextLightSampler` (concepts.hpp). A view: the `LightBvh` it came
 /// from must outlive it (copy its arrays to the device for a kernel).
@@ -323,22 +231,25 @@ struct LightBvhView {
     /// `Count` draws for one shading point at once: draw k is `sample(at, u0[k], u1[k])`,
     /// exactly. The descents advance a level at a time side by side, so that a CPU overlaps
     /// their chains of dependent levels (and their cache misses) instead of waiting on each in
-    /// turn (the chains, not the arithmetic, bound a single draw). On a GPU prefer single draws:
-    /// the batch's descents are indexed at run time and live in local memory.
+    /// turn (the chains, not the arithmetic, bound a single draw). In device code its loops over
+    /// the draws unroll, so the descents stay in registers.
     template <std::uint32_t Count>
     RESTIR_HOST_DEVICE void sample(const ShadingPoint& at, const float (&u0)[Count],
                                    const float (&u1)[Count], DiscreteSample (&out)[Count]) const {
         Descent descents[Count];
+        RESTIR_UNROLL
         for (std::uint32_t k = 0u; k < Count; ++k)
             descents[k] = Descent{u0[k], u1[k], count == 0u};
         for (bool active = count > 0u; active;) {
             active = false;
+            RESTIR_UNROLL
             for (std::uint32_t k = 0u; k < Count; ++k) {
                 if (!descents[k].done)
                     step(at, descents[k]);
                 active = active || !descents[k].done;
             }
         }
+        RESTIR_UNROLL
         for (std::uint32_t k = 0u; k < Count; ++k)
             out[k] = descents[k].result;
     }
