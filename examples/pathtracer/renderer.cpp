@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -535,98 +536,169 @@ struct Renderer::Impl {
     }
 
     // --- ReGIR: a world-space grid of light tiles (--source grid) -----------------------------
-    // The scene's box in grid_resolution^3 cells. Every frame each pixel looks its cell up at
-    // its surface moved by a random offset of up to half a cell along each axis (without it,
-    // every pixel of a cell shared one tile's error and the cells showed as blocks), and each
-    // cell looked up gets a tile of lights resampled for every point whose lookup can land in
-    // it (a region: its centre, its full diagonal as the radius, any normal; `grid_entry`), so
-    // that a candidate from it can be any light that reaches the pixel. (Entries drawn from the
-    // light BVH for the region instead cost more and gave more error: docs/performance.md.)
-    static constexpr std::uint32_t grid_resolution = 16;
-    static constexpr std::uint32_t grid_tile_size = 64;      // a power of two
-    static constexpr std::uint32_t grid_fill_candidates = 4; // per tile entry
+    // The scene's box in about cubic cells, `grid_resolution` along its longest side. Every
+    // frame each pixel looks its cell up at its surface moved by a random offset of up to half
+    // a cell along each axis (without it, every pixel of a cell shared one tile's error and the
+    // cells showed as blocks), and each cell looked up gets a tile of lights resampled for
+    // every point whose lookup can land in it (a region: its centre, its full diagonal as the
+    // radius, any normal; `fill_grid_tile`), so that a candidate from it can be any light that
+    // reaches the pixel. A tile has as many entries as the pixels that use it, between 32 and
+    // 128: most cells looked up hold a few pixels, and fewer entries there gave more error
+    // (docs/performance.md, with what else was tried).
+    static constexpr std::uint32_t grid_resolution = 32;
+    static constexpr std::uint32_t grid_tile_size = 128;      // entries at most, a power of two
+    static constexpr std::uint32_t grid_tile_minimum = 32;    // entries at least, a power of two:
+                                                              // the tiles of `grid_tiles`, which a
+                                                              // cell's entries fill one or more of
+    static constexpr std::uint32_t grid_fill_candidates = 32; // per entry
     std::vector<float> grid_planes;
     std::vector<restir::LightSampleRef> grid_references;
     restir::LightTileArrays grid_tiles;
-    std::vector<std::uint32_t> used_cells;
-    std::vector<std::uint32_t> pixel_cells; // each pixel's cell this frame
-    SceneBounds grid_box;                   // the scene's box, found by the first fill_grid
+    SceneBounds grid_box;      // the scene's box, laid out in cells by the first fill_grid
+    glm::uvec3 grid_cells{0u}; // along each axis
+    glm::vec3 grid_cell_size{0.0f};
+    std::vector<std::uint32_t> cell_tiles;   // per cell: its tile this frame, or none
+    std::vector<std::uint32_t> used_cells;   // per cell looked up this frame (a "tile"): the cell
+    std::vector<std::uint32_t> tile_entries; // per tile: its entries
+    std::vector<std::uint32_t> grid_starts;  // per tile: its first tile of `grid_tiles`
+    std::vector<std::uint32_t> pixel_tiles;  // per pixel: its tile this frame
 
+    void lay_out_grid() {
+        grid_box = bounds_of(scene);
+        const glm::vec3 size = glm::max(grid_box.upper - grid_box.lower, glm::vec3(1e-6f * extent));
+        const float side = std::max({size.x, size.y, size.z}) / static_cast<float>(grid_resolution);
+        grid_cells = glm::uvec3(glm::clamp(glm::round(size / side), glm::vec3(1.0f),
+                                           glm::vec3(static_cast<float>(grid_resolution))));
+        grid_cell_size = size / glm::vec3(grid_cells);
+        cell_tiles.assign(std::size_t{grid_cells.x} * grid_cells.y * grid_cells.z, ~0u);
+    }
     std::uint32_t cell_of(glm::vec3 p) const {
-        const SceneBounds& box = grid_box;
-        const glm::vec3 t = (p - box.lower) / glm::max(box.upper - box.lower, glm::vec3(1e-30f)) *
-                            static_cast<float>(grid_resolution);
-        const auto clamped = [](float v) {
-            return std::min(grid_resolution - 1u, static_cast<std::uint32_t>(std::max(v, 0.0f)));
+        const glm::vec3 t = (p - grid_box.lower) / grid_cell_size;
+        const auto clamped = [](float v, std::uint32_t n) {
+            return std::min(n - 1u, static_cast<std::uint32_t>(std::max(v, 0.0f)));
         };
-        return clamped(t.x) + grid_resolution * (clamped(t.y) + grid_resolution * clamped(t.z));
+        return clamped(t.x, grid_cells.x) +
+               grid_cells.x *
+                   (clamped(t.y, grid_cells.y) + grid_cells.y * clamped(t.z, grid_cells.z));
     }
     restir::ShadingPoint cell_region(std::uint32_t cell) const {
-        const SceneBounds& box = grid_box;
-        const glm::vec3 size = (box.upper - box.lower) / static_cast<float>(grid_resolution);
-        const glm::vec3 index(static_cast<float>(cell % grid_resolution),
-                              static_cast<float>(cell / grid_resolution % grid_resolution),
-                              static_cast<float>(cell / (grid_resolution * grid_resolution)));
+        const glm::vec3 index(static_cast<float>(cell % grid_cells.x),
+                              static_cast<float>(cell / grid_cells.x % grid_cells.y),
+                              static_cast<float>(cell / (grid_cells.x * grid_cells.y)));
         // 1 % more than the diagonal, for points on the box's faces and rounding.
-        return {box.lower + (index + 0.5f) * size, glm::vec3(0.0f),
-                1.01f * glm::length(size) + ray_offset};
+        return {grid_box.lower + (index + 0.5f) * grid_cell_size, glm::vec3(0.0f),
+                1.01f * glm::length(grid_cell_size) + ray_offset};
     }
     void fill_grid(std::uint32_t frame_index) {
-        constexpr std::uint32_t cells = grid_resolution * grid_resolution * grid_resolution;
-        grid_planes.resize(std::size_t{cells} * grid_tile_size * restir::tile_plane_count);
-        grid_references.resize(std::size_t{cells} * grid_tile_size);
-        grid_tiles = {grid_planes.data(), grid_references.data(), cells, grid_tile_size};
-        if (grid_box.lower.x > grid_box.upper.x) // the scene does not change: read it once
-            grid_box = bounds_of(scene);
-        std::vector<std::uint8_t> used(cells, 0u);
+        if (cell_tiles.empty()) // the scene does not change: laid out once
+            lay_out_grid();
+        for (const std::uint32_t cell : used_cells)
+            cell_tiles[cell] = ~0u;
         used_cells.clear();
-        pixel_cells.assign(surfaces.size(), 0u);
-        const glm::vec3 cell_size =
-            (grid_box.upper - grid_box.lower) / static_cast<float>(grid_resolution);
+        tile_entries.clear();
+        pixel_tiles.assign(surfaces.size(), 0u);
         for (std::uint32_t i = 0; i < surfaces.size(); ++i) {
             if (!surfaces[i].valid)
                 continue;
             restir::Pcg32 rng =
                 restir::make_pixel_rng(i, frame_index, RenderStream::grid_jitter, settings.seed);
             const float u = next_float(rng), v = next_float(rng), w = next_float(rng);
-            pixel_cells[i] =
-                cell_of(surfaces[i].position + (glm::vec3(u, v, w) - 0.5f) * cell_size);
-            if (used[pixel_cells[i]] == 0u) {
-                used[pixel_cells[i]] = 1u;
-                used_cells.push_back(pixel_cells[i]);
+            const std::uint32_t cell =
+                cell_of(surfaces[i].position + (glm::vec3(u, v, w) - 0.5f) * grid_cell_size);
+            if (cell_tiles[cell] == ~0u) {
+                cell_tiles[cell] = static_cast<std::uint32_t>(used_cells.size());
+                used_cells.push_back(cell);
+                tile_entries.push_back(0u);
             }
+            pixel_tiles[i] = cell_tiles[cell];
+            ++tile_entries[pixel_tiles[i]]; // its pixels, for now
         }
-        const auto entries = static_cast<std::uint32_t>(used_cells.size()) * grid_tile_size;
+        const auto tiles_used = static_cast<std::uint32_t>(used_cells.size());
+        grid_starts.resize(tiles_used);
+        std::uint32_t blocks = 0; // of grid_tile_minimum entries
+        for (std::uint32_t t = 0; t < tiles_used; ++t) {
+            tile_entries[t] =
+                std::clamp(std::bit_ceil(tile_entries[t]), grid_tile_minimum, grid_tile_size);
+            grid_starts[t] = blocks;
+            blocks += tile_entries[t] / grid_tile_minimum;
+        }
+        grid_planes.resize(std::size_t{blocks} * grid_tile_minimum * restir::tile_plane_count);
+        grid_references.resize(std::size_t{blocks} * grid_tile_minimum);
+        grid_tiles = {grid_planes.data(), grid_references.data(), blocks, grid_tile_minimum};
         arena.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0u, entries, 64u),
+            tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0u, tiles_used, 1u),
                               [&](const tbb::blocked_range<std::uint32_t>& range) {
-                                  for (std::uint32_t i = range.begin(); i < range.end(); ++i) {
-                                      const std::uint32_t cell = used_cells[i / grid_tile_size];
-                                      const std::uint32_t j = i % grid_tile_size;
-                                      restir::Pcg32 rng = restir::make_pixel_rng(
-                                          cell * grid_tile_size + j, frame_index,
-                                          RenderStream::light_tiles, settings.seed);
-                                      grid_tiles.store(cell, j, grid_entry(cell, rng), falloff);
-                                  }
+                                  for (std::uint32_t t = range.begin(); t < range.end(); ++t)
+                                      fill_grid_tile(t, frame_index);
                               });
         });
     }
 
-    // One entry of a cell's tile: RIS over power-proportional candidates with the lights'
-    // importance bounds at the cell's region as the target, its contribution weight W standing
-    // for the entry's 1 / pdf (an unbiased contribution weight may replace 1 / p in RIS: Lin et
-    // al. 2022, GRIS). Positive wherever a light reaches a point of the region.
-    restir::PresampledLight grid_entry(std::uint32_t cell, restir::Pcg32& rng) const {
+    // A cell's tile: each entry RIS over its own `grid_fill_candidates` power-proportional
+    // candidates with the lights' importance bounds at the cell's region as the target, its
+    // contribution weight W standing for the entry's 1 / pdf (an unbiased contribution weight
+    // may replace 1 / p in RIS: Lin et al. 2022, GRIS). Positive wherever a light reaches a
+    // point of the region. The tile's candidates are all drawn first and weighed after, their
+    // alias-table buckets and bounds asked for ahead: the fill is bound by those cache misses.
+    void fill_grid_tile(std::uint32_t tile, std::uint32_t frame_index) {
+        constexpr std::uint32_t m = grid_fill_candidates;
+        constexpr std::uint32_t chunk = 64; // draws whose buckets are asked for together
+        static_assert(grid_tile_minimum * m % chunk == 0u);
+        const std::uint32_t cell = used_cells[tile];
         const restir::ShadingPoint region = cell_region(cell);
-        const restir::PowerLightSampler power{light_table.view()};
-        const auto r = restir::resample_ris(
-            rng, grid_fill_candidates,
-            [&](restir::Pcg32& g) { return restir::draw_light_candidate(power, g); },
-            [&](const restir::LightSampleRef& x) {
-                return restir::light_importance(light_nodes[x.light_id], region);
-            });
-        const bool usable = r.has_sample() && r.contribution_weight > 0.0f;
-        return restir::presampled({r.sample, usable ? 1.0f / r.contribution_weight : 0.0f}, lights);
+        const restir::AliasTableView table = light_table.view();
+        restir::Pcg32 rng =
+            restir::make_pixel_rng(cell, frame_index, RenderStream::light_tiles, settings.seed);
+        const std::uint32_t count = m * tile_entries[tile];
+        std::array<std::uint32_t, grid_tile_size * m> ids;
+        std::array<float, grid_tile_size * m> weight; // pmf, then w = p^ / pmf
+        for (std::uint32_t first = 0; first < count; first += chunk) {
+            float u[chunk][2];
+            for (std::uint32_t k = 0; k < chunk; ++k) {
+                u[k][0] = next_float(rng);
+                u[k][1] = next_float(rng);
+                __builtin_prefetch(
+                    &table.entries[restir::wide_uniform_index(u[k][0], u[k][1], table.size).index]);
+            }
+            for (std::uint32_t k = 0; k < chunk; ++k) {
+                const restir::DiscreteSample c = table.sample(u[k][0], u[k][1]);
+                ids[first + k] = c.index;
+                weight[first + k] = c.pmf;
+            }
+        }
+        constexpr std::uint32_t ahead = 16; // bounds asked for this many candidates ahead
+        for (std::uint32_t k = 0; k < ahead; ++k)
+            __builtin_prefetch(&light_nodes[ids[k]]);
+        for (std::uint32_t k = 0; k < count; ++k) {
+            if (k + ahead < count)
+                __builtin_prefetch(&light_nodes[ids[k + ahead]]);
+            const float pmf = weight[k];
+            weight[k] =
+                pmf > 0.0f ? restir::light_importance(light_nodes[ids[k]], region) / pmf : 0.0f;
+        }
+        for (std::uint32_t j = 0; j < tile_entries[tile]; ++j) {
+            // Entry j: one of candidates [j m, j m + m) in proportion to w (Eq. 3.2 of Talbot
+            // 2005), W = sum(w) / (m p^(y)).
+            const std::uint32_t first = j * m;
+            float total = 0.0f;
+            for (std::uint32_t k = first; k < first + m; ++k)
+                total += weight[k];
+            float x = next_float(rng) * total;
+            std::uint32_t chosen = first;
+            for (std::uint32_t k = first; k < first + m; ++k) {
+                chosen = weight[k] > 0.0f ? k : chosen;
+                if (x < weight[k])
+                    break;
+                x -= weight[k];
+            }
+            const float target = weight[chosen] * table.pmf(ids[chosen]); // p^(y)
+            const float pdf =
+                total > 0.0f && target > 0.0f ? target * static_cast<float>(m) / total : 0.0f;
+            grid_tiles.store(
+                grid_starts[tile] + j / grid_tile_minimum, j % grid_tile_minimum,
+                restir::presampled(restir::with_uniform_point({ids[chosen], pdf}, rng), lights),
+                falloff);
+        }
     }
 
     // RIS candidates for a pixel: from the light BVH (bvh), its cell's tile (grid), or its
@@ -635,15 +707,17 @@ struct Renderer::Impl {
                                 const GSurface& s, restir::Pcg32& rng) const {
         if (settings.source == CandidateSource::bvh)
             return bvh_reservoir(s, rng);
-        if (settings.source == CandidateSource::grid)
-            return tile_reservoir(grid_tiles, pixel_cells[x + y * settings.width], grid_tile_size,
-                                  s, rng);
+        if (settings.source == CandidateSource::grid) {
+            const std::uint32_t tile = pixel_tiles[x + y * settings.width];
+            return tile_reservoir(grid_tiles, grid_starts[tile], tile_entries[tile], s, rng);
+        }
         return tile_reservoir(tiles, tiles.tile_for(block_of(x, y), frame_index), tile_size, s,
                               rng);
     }
 
-    // Batch RIS over candidates from tile `tile` of `from` (Alg. 3 of Bitterli et al. 2020, in
-    // blocks of 8 consecutive entries: sampling/ris_batch.hpp).
+    // Batch RIS over the `size` entries from tile `tile` of `from` on (Alg. 3 of Bitterli et al.
+    // 2020, in blocks of 8 consecutive entries: sampling/ris_batch.hpp); they may span
+    // consecutive tiles (the grid's tiles of more than one block of `from`).
     Reservoir tile_reservoir(const restir::LightTileArrays& from, std::uint32_t tile,
                              std::uint32_t size, const GSurface& s, restir::Pcg32& rng) const {
         // Candidate blocks walk the tile's blocks from a random start with a random odd stride:
@@ -658,7 +732,8 @@ struct Renderer::Impl {
             [&](std::uint32_t b, restir::CandidateBlock<block_size>& block) {
                 const std::uint32_t first = ((start + b * stride) & block_mask) * block_size;
                 return restir::evaluate_tile_block<block_size, target_norm>(
-                    from, tile, first, s.position, s.normal, channel_weights, block);
+                    from, tile + first / from.tile_size, first % from.tile_size, s.position,
+                    s.normal, channel_weights, block);
             });
         return picked.with_sample(from.point_sample(picked.sample));
     }
@@ -1238,10 +1313,14 @@ std::uint64_t estimated_memory_bytes(const RenderSettings& settings, bool with_r
         (settings.method == Method::restir ? 384u : 192u) + (with_reference ? 48u : 0u);
     const std::uint64_t vpls = settings.gi == GlobalIllumination::vpl ? settings.vpls : 0u;
     // bvh's light tree: 124 bytes more per VPL measured at 1M VPLs (grid's per-light nodes
-    // need less); the grid's tiles: 16^3 cells of 64 entries.
+    // need less); the grid's tiles at most: a cell looked up has fewer than 2 entries per pixel
+    // that looks it up, and at least 32, of 64 bytes each, in at most 32^3 cells.
     const bool bvh =
         settings.source == CandidateSource::bvh || settings.source == CandidateSource::grid;
-    const std::uint64_t grid = settings.source == CandidateSource::grid ? 16u << 20u : 0u;
+    const std::uint64_t grid =
+        settings.source == CandidateSource::grid
+            ? pixels * 128u + std::min<std::uint64_t>(pixels, 32u * 32u * 32u) * 2048u
+            : 0u;
     return (32u << 20u) + pixels * per_pixel + vpls * (bvh ? 224u : 96u) + grid;
 }
 

@@ -100,9 +100,9 @@ struct FrameTimings {
 /// Peak memory a render with `settings` needs, in bytes, about: per pixel 384 bytes for ReSTIR
 /// (G-buffers of two frames, three reservoir buffers, the images) and 192 for the other methods,
 /// 48 more per pixel with a reference (the reference image and the error measures), 96 per
-/// VPL asked for (224 with the light BVH of --source bvh or grid), 16 MB more for the grid's
-/// tiles, 32 MB besides (measured peaks: 361 and 176 bytes per pixel at 2048 x 2048, 79 per
-/// VPL at 1M VPLs, 124 more per VPL with the BVH).
+/// VPL asked for (224 with the light BVH of --source bvh or grid), for the grid's tiles at most
+/// 128 bytes per pixel and 2 KB per cell looked up, 32 MB besides (measured peaks: 361 and 176
+/// bytes per pixel at 2048 x 2048, 79 per VPL at 1M VPLs, 124 more per VPL with the BVH).
 std::uint64_t estimated_memory_bytes(const RenderSettings& settings, bool with_reference);
 
 /// Renders frames of one scene with one setting. Throws SceneError for a scene without
