@@ -27,7 +27,8 @@ scenes=(
   "cornell-100k-vpls|--scene cornell --gi vpl --vpls 100000"
   "cornell-box-obj|--scene ../shared/scenes/cornell-box.obj --gi vpl --vpls 100000"
 )
-# SOURCE:CANDIDATES runs; RUNS="bvh:1 bvh:4" measures those alone.
+# SOURCE:CANDIDATES[:GRID_CELLS] runs; RUNS="bvh:1 bvh:4" measures those alone, RUNS="grid:32:8"
+# the grid with --grid-cells 8.
 read -r -a runs <<<"${RUNS:-power:32 power:128 power:512 bvh:1 bvh:4 grid:32 grid:128}"
 
 summary() { # CSV: mean frame_ms, mean and median frame_rmse^2 over frames 2..N
@@ -50,12 +51,14 @@ for entry in "${scenes[@]}"; do
       --out "$reference" >/dev/null
   for method in ris restir; do
     for run in "${runs[@]}"; do
-      source=${run%%:*} candidates=${run#*:}
-      csv=$dir/$name-$method-$source-$candidates.csv
+      IFS=: read -r source candidates cells <<<"$run"
+      grid=() label=$source-$candidates
+      [ -z "$cells" ] || { grid=(--grid-cells "$cells"); label=$label-cells-$cells; }
+      csv=$dir/$name-$method-$label.csv
       "$render" "${common[@]}" --seed 2 --method "$method" --source "$source" \
-        --candidates "$candidates" --frames "$frames" --reference "$reference" --csv "$csv" \
-        --out "$dir/$name-$method-$source-$candidates.png" >/dev/null
-      echo "$name $method $source $candidates $(summary "$csv")"
+        --candidates "$candidates" "${grid[@]}" --frames "$frames" --reference "$reference" \
+        --csv "$csv" --out "$dir/$name-$method-$label.png" >/dev/null
+      echo "$name $method $source $candidates${cells:+ cells $cells} $(summary "$csv")"
     done
   done
 done | tee "$dir/summary.txt"

@@ -191,12 +191,17 @@ void add_light_sampling_options(CLI::App& app, RenderSettings& settings) {
                    "bvh (by importance at the pixel's surface, a light BVH drawn per pixel: "
                    "far better candidates, each costing more; lower --candidates) or grid (by "
                    "importance in the pixel's cell of a world-space grid, tiles per cell "
-                   "resampled from power-proportional candidates every frame)")
+                   "resampled from power-proportional candidates every frame; --grid-cells)")
         ->transform(names<CandidateSource>({{"power", CandidateSource::power},
                                             {"uniform", CandidateSource::uniform},
                                             {"bvh", CandidateSource::bvh},
                                             {"grid", CandidateSource::grid}}))
         ->default_str("power");
+    app.add_option("--grid-cells", settings.grid_cells,
+                   "--source grid: cells along the longest side of the scene's box (the other "
+                   "sides in cells of about that size); 32 suits the many-lights scene, 8 the "
+                   "Cornell boxes (docs/performance.md)")
+        ->check(CLI::Range(1u, 256u));
 }
 
 // Indirect light: the VPLs' photons and the path tracer's depth. The photons' seed is

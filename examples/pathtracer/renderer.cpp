@@ -536,7 +536,7 @@ struct Renderer::Impl {
     }
 
     // --- ReGIR: a world-space grid of light tiles (--source grid) -----------------------------
-    // The scene's box in about cubic cells, `grid_resolution` along its longest side. Every
+    // The scene's box in about cubic cells, `settings.grid_cells` along its longest side. Every
     // frame each pixel looks its cell up at its surface moved by a random offset of up to half
     // a cell along each axis (without it, every pixel of a cell shared one tile's error and the
     // cells showed as blocks), and each cell looked up gets a tile of lights resampled for
@@ -545,7 +545,6 @@ struct Renderer::Impl {
     // reaches the pixel. A tile has as many entries as the pixels that use it, between 32 and
     // 128: most cells looked up hold a few pixels, and fewer entries there gave more error
     // (docs/performance.md, with what else was tried).
-    static constexpr std::uint32_t grid_resolution = 32;
     static constexpr std::uint32_t grid_tile_size = 128;      // entries at most, a power of two
     static constexpr std::uint32_t grid_tile_minimum = 32;    // entries at least, a power of two:
                                                               // the tiles of `grid_tiles`, which a
@@ -566,9 +565,10 @@ struct Renderer::Impl {
     void lay_out_grid() {
         grid_box = bounds_of(scene);
         const glm::vec3 size = glm::max(grid_box.upper - grid_box.lower, glm::vec3(1e-6f * extent));
-        const float side = std::max({size.x, size.y, size.z}) / static_cast<float>(grid_resolution);
-        grid_cells = glm::uvec3(glm::clamp(glm::round(size / side), glm::vec3(1.0f),
-                                           glm::vec3(static_cast<float>(grid_resolution))));
+        const auto along_longest = static_cast<float>(settings.grid_cells);
+        const float side = std::max({size.x, size.y, size.z}) / along_longest;
+        grid_cells = glm::uvec3(
+            glm::clamp(glm::round(size / side), glm::vec3(1.0f), glm::vec3(along_longest)));
         grid_cell_size = size / glm::vec3(grid_cells);
         cell_tiles.assign(std::size_t{grid_cells.x} * grid_cells.y * grid_cells.z, ~0u);
     }
@@ -1314,12 +1314,14 @@ std::uint64_t estimated_memory_bytes(const RenderSettings& settings, bool with_r
     const std::uint64_t vpls = settings.gi == GlobalIllumination::vpl ? settings.vpls : 0u;
     // bvh's light tree: 124 bytes more per VPL measured at 1M VPLs (grid's per-light nodes
     // need less); the grid's tiles at most: a cell looked up has fewer than 2 entries per pixel
-    // that looks it up, and at least 32, of 64 bytes each, in at most 32^3 cells.
+    // that looks it up, and at least 32, of 64 bytes each.
     const bool bvh =
         settings.source == CandidateSource::bvh || settings.source == CandidateSource::grid;
     const std::uint64_t grid =
         settings.source == CandidateSource::grid
-            ? pixels * 128u + std::min<std::uint64_t>(pixels, 32u * 32u * 32u) * 2048u
+            ? pixels * 128u + std::min(pixels, std::uint64_t{settings.grid_cells} *
+                                                   settings.grid_cells * settings.grid_cells) *
+                                  2048u
             : 0u;
     return (32u << 20u) + pixels * per_pixel + vpls * (bvh ? 224u : 96u) + grid;
 }

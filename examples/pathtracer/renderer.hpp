@@ -27,7 +27,7 @@ enum class GlobalIllumination {
 /// Where RIS candidates come from: lights in proportion to their power (from light tiles), or
 /// uniformly (from light tiles), or by their importance at the pixel's surface (a light BVH,
 /// drawn per pixel), or by their importance in the pixel's cell of a world-space grid (tiles
-/// per cell resampled from power-proportional candidates every frame, ReGIR).
+/// per cell resampled from power-proportional candidates every frame, ReGIR; `grid_cells`).
 enum class CandidateSource { power, uniform, bvh, grid };
 /// A still camera, or one that turns about its look-at point a little every frame.
 enum class CameraMotion { none, orbit };
@@ -49,6 +49,10 @@ struct RenderSettings {
                                ///< that error measurements see lighting noise only).
     /// RIS candidates per pixel (ris, restir).
     std::uint32_t candidates = 32;
+    /// --source grid: cells along the longest side of the scene's box (the other sides in
+    /// cells of about the same size). Finer cells give candidates closer to each pixel's
+    /// lights, and cost more cells to fill every frame (docs/performance.md).
+    std::uint32_t grid_cells = 32;
     /// Keep the temporal history packed (restir::PackedPointReservoir: 28 bytes a pixel
     /// instead of 64), its light points decoded from the light set when read: the same image,
     /// with less memory and a light lookup per pixel.

@@ -83,6 +83,8 @@ TEST(Cli, HelpDocumentsEveryFlagWithItsDefault) {
                              "--reference",
                              "--csv",
                              "--candidates",
+                             "--source",
+                             "--grid-cells",
                              "--neighbours",
                              "--radius",
                              "--spatial-passes",
@@ -107,6 +109,8 @@ TEST(Cli, BadInputIsOneLineAndStatusTwo) {
     expect_one_line_error(small("--gi sometimes"), "sometimes");
     expect_one_line_error("--width 0 --out x.png", "width");
     expect_one_line_error(small("--frames -3"), "frames");
+    expect_one_line_error(small("--source grid --grid-cells 0"), "grid-cells");
+    expect_one_line_error(small("--source grid --grid-cells 257"), "grid-cells");
     expect_one_line_error(small("--look-from 1,2"), "look-from");
     expect_one_line_error(small("--method restir --spp 4"), "--frames");
     expect_one_line_error(small("--scene " + (dir / "missing.obj").string()), "missing.obj");
