@@ -46,6 +46,16 @@ RESTIR_HOST_DEVICE constexpr T max_of(T a, T b) noexcept {
     return a < b ? b : a;
 }
 
+/// `condition ? a : b` through bit masks. Both values are computed before the choice, and
+/// compilers keep it a select (a vector blend): from a plain `?:` GCC 12 may move the untaken
+/// side's arithmetic under the condition, and a loop with such conditional operations no longer
+/// vectorises without masked vector instructions.
+RESTIR_HOST_DEVICE constexpr float select_float(bool condition, float a, float b) noexcept {
+    const std::uint32_t mask = 0u - static_cast<std::uint32_t>(condition);
+    return __builtin_bit_cast(float, (__builtin_bit_cast(std::uint32_t, a) & mask) |
+                                         (__builtin_bit_cast(std::uint32_t, b) & ~mask));
+}
+
 /// Index in [0, count) from a uniform number u in [0, 1) (count > 0); robust to u rounding up
 /// to 1, and defined for any float: u <= 0 or NaN gives 0, u >= 1 gives count - 1.
 RESTIR_HOST_DEVICE constexpr std::uint32_t uniform_index(float u, std::uint32_t count) noexcept {
