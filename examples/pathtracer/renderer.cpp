@@ -642,40 +642,14 @@ struct Renderer::Impl {
     // alias-table buckets and bounds asked for ahead: the fill is bound by those cache misses.
     void fill_grid_tile(std::uint32_t tile, std::uint32_t frame_index) {
         constexpr std::uint32_t m = grid_fill_candidates;
-        constexpr std::uint32_t chunk = 64; // draws whose buckets are asked for together
-        static_assert(grid_tile_minimum * m % chunk == 0u);
         const std::uint32_t cell = used_cells[tile];
-        const restir::ShadingPoint region = cell_region(cell);
-        const restir::AliasTableView table = light_table.view();
         restir::Pcg32 rng =
             restir::make_pixel_rng(cell, frame_index, RenderStream::light_tiles, settings.seed);
         const std::uint32_t count = m * tile_entries[tile];
-        std::array<std::uint32_t, grid_tile_size * m> ids;
-        std::array<float, grid_tile_size * m> weight; // pmf, then w = p^ / pmf
-        for (std::uint32_t first = 0; first < count; first += chunk) {
-            float u[chunk][2];
-            for (std::uint32_t k = 0; k < chunk; ++k) {
-                u[k][0] = next_float(rng);
-                u[k][1] = next_float(rng);
-                __builtin_prefetch(
-                    &table.entries[restir::wide_uniform_index(u[k][0], u[k][1], table.size).index]);
-            }
-            for (std::uint32_t k = 0; k < chunk; ++k) {
-                const restir::DiscreteSample c = table.sample(u[k][0], u[k][1]);
-                ids[first + k] = c.index;
-                weight[first + k] = c.pmf;
-            }
-        }
-        constexpr std::uint32_t ahead = 16; // bounds asked for this many candidates ahead
-        for (std::uint32_t k = 0; k < ahead; ++k)
-            __builtin_prefetch(&light_nodes[ids[k]]);
-        for (std::uint32_t k = 0; k < count; ++k) {
-            if (k + ahead < count)
-                __builtin_prefetch(&light_nodes[ids[k + ahead]]);
-            const float pmf = weight[k];
-            weight[k] =
-                pmf > 0.0f ? restir::light_importance(light_nodes[ids[k]], region) / pmf : 0.0f;
-        }
+        GridCandidates candidates;
+        draw_grid_candidates(rng, count, candidates);
+        weigh_grid_candidates(cell_region(cell), count, candidates);
+        const std::span<const float> weight(candidates.weight);
         for (std::uint32_t j = 0; j < tile_entries[tile]; ++j) {
             // Entry j: one of candidates [j m, j m + m) in proportion to w (Eq. 3.2 of Talbot
             // 2005), W = sum(w) / (m p^(y)).
@@ -691,13 +665,63 @@ struct Renderer::Impl {
                     break;
                 x -= weight[k];
             }
-            const float target = weight[chosen] * table.pmf(ids[chosen]); // p^(y)
+            const std::uint32_t id = candidates.ids[chosen];
+            const float target = weight[chosen] * light_table.view().pmf(id); // p^(y)
             const float pdf =
                 total > 0.0f && target > 0.0f ? target * static_cast<float>(m) / total : 0.0f;
-            grid_tiles.store(
-                grid_starts[tile] + j / grid_tile_minimum, j % grid_tile_minimum,
-                restir::presampled(restir::with_uniform_point({ids[chosen], pdf}, rng), lights),
-                falloff);
+            grid_tiles.store(grid_starts[tile] + j / grid_tile_minimum, j % grid_tile_minimum,
+                             restir::presampled(restir::with_uniform_point({id, pdf}, rng), lights),
+                             falloff);
+        }
+    }
+
+    // A tile's candidates: light ids, and their pmfs, then their RIS weights w = p^ / pmf.
+    struct GridCandidates {
+        std::array<std::uint32_t, grid_tile_size * grid_fill_candidates> ids;
+        std::array<float, grid_tile_size * grid_fill_candidates> weight;
+    };
+    // `count` lights by power, their alias-table buckets asked for 64 draws at a time.
+    void draw_grid_candidates(restir::Pcg32& rng, std::uint32_t count,
+                              GridCandidates& candidates) const {
+        constexpr std::uint32_t chunk = 64;
+        static_assert(grid_tile_minimum * grid_fill_candidates % chunk == 0u);
+        const restir::AliasTableView table = light_table.view();
+        for (std::uint32_t first = 0; first < count; first += chunk) {
+            float u[chunk][2];
+            for (std::uint32_t k = 0; k < chunk; ++k) {
+                u[k][0] = next_float(rng);
+                u[k][1] = next_float(rng);
+                __builtin_prefetch(
+                    &table.entries[restir::wide_uniform_index(u[k][0], u[k][1], table.size).index]);
+            }
+            for (std::uint32_t k = 0; k < chunk; ++k) {
+                const restir::DiscreteSample c = table.sample(u[k][0], u[k][1]);
+                candidates.ids[first + k] = c.index;
+                candidates.weight[first + k] = c.pmf;
+            }
+        }
+    }
+    // The candidates' RIS weights at `region`: their importance bounds there over their pmfs,
+    // four lights' bounds side by side (`LightBvhGroup::importance`), each light's asked for 16
+    // candidates ahead.
+    void weigh_grid_candidates(const restir::ShadingPoint& region, std::uint32_t count,
+                               GridCandidates& candidates) const {
+        constexpr std::uint32_t ahead = 16;
+        constexpr std::uint32_t lanes = restir::LightBvhGroup::lanes;
+        static_assert(grid_tile_minimum * grid_fill_candidates % lanes == 0u);
+        for (std::uint32_t k = 0; k < ahead; ++k)
+            __builtin_prefetch(&light_nodes[candidates.ids[k]]);
+        for (std::uint32_t k = 0; k < count; k += lanes) {
+            float importance[lanes];
+            for (std::uint32_t c = 0; c < lanes; ++c) {
+                if (k + c + ahead < count)
+                    __builtin_prefetch(&light_nodes[candidates.ids[k + c + ahead]]);
+                importance[c] = restir::light_importance(light_nodes[candidates.ids[k + c]], region);
+            }
+            for (std::uint32_t c = 0; c < lanes; ++c) {
+                const float pmf = candidates.weight[k + c];
+                candidates.weight[k + c] = pmf > 0.0f ? importance[c] / pmf : 0.0f;
+            }
         }
     }
 
@@ -740,8 +764,8 @@ struct Renderer::Impl {
 
     // Streaming RIS over candidates drawn from the light BVH for the pixel's surface (the
     // source pdf: the light's pmf there), four draws at a time while four or more remain: their
-    // descents advance side by side (light/light_bvh_view.hpp): a frame with 4 candidates took
-    // 0.9-1.0 s instead of 1.4-1.6 s at 1280 x 720 with 100k lights (docs/performance.md).
+    // descents advance side by side (light/light_bvh_view.hpp), which made a frame with 4
+    // candidates at 1280 x 720 with 100k lights about a third faster (docs/performance.md).
     Reservoir bvh_reservoir(const GSurface& s, restir::Pcg32& rng) const {
         constexpr std::uint32_t batch = 4;
         const restir::LightBvhView bvh = light_bvh->view();
