@@ -185,9 +185,10 @@ static_assert(sizeof(LightBvhGroup) == 192u);
 
 RESTIR_HOST_DEVICE inline float LightBvhGroup::importance(const ShadingPoint& at,
                                                           float (&out)[lanes]) const {
-    // The fields spelled out: written as light_importance(node(c), at), GCC 12 no longer
-    // vectorised the loop (BM_LightBvh_Sample at 1k lights 188 -> 344 ns). Check the benchmark
-    // after any change here.
+    // The fields spelled out: written as light_importance(node(c), at), GCC 12 vectorised the
+    // loop only once the bound's selects were bit masks, and batch draws were still slower
+    // (BM_LightBvh_SampleBatch<8> at 1k lights 99-101 -> 109-112 ns a draw). Check the
+    // benchmark after any change here.
     for (std::uint32_t c = 0u; c < lanes; ++c)
         out[c] =
             detail::importance_bound(glm::vec3(centre_x[c], centre_y[c], centre_z[c]), radius[c],
