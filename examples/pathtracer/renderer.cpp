@@ -536,15 +536,13 @@ struct Renderer::Impl {
     }
 
     // --- ReGIR: a world-space grid of light tiles (--source grid) -----------------------------
-    // The scene's box in about cubic cells, `settings.grid_cells` along its longest side. Every
-    // frame each pixel looks its cell up at its surface moved by a random offset of up to half
-    // a cell along each axis (without it, every pixel of a cell shared one tile's error and the
-    // cells showed as blocks), and each cell looked up gets a tile of lights resampled for
-    // every point whose lookup can land in it (a region: its centre, its full diagonal as the
-    // radius, any normal; `fill_grid_tile`), so that a candidate from it can be any light that
-    // reaches the pixel. A tile has as many entries as the pixels that use it, between 32 and
-    // 128: most cells looked up hold a few pixels, and fewer entries there gave more error
-    // (docs/performance.md, with what else was tried).
+    // The scene's box in about cubic cells, `settings.grid_cells` along its longest side
+    // (sampling/light_grid.hpp). Every frame each pixel looks its cell up with a jitter of up to
+    // half a cell along each axis, and each cell looked up gets a tile of lights resampled for
+    // every point whose lookup can land in it (`restir::resample_grid_tile`), so that a
+    // candidate from it can be any light that reaches the pixel. A tile has as many entries as
+    // the pixels that use it, between 32 and 128: most cells looked up hold a few pixels, and
+    // fewer entries there gave more error (docs/performance.md, with what else was tried).
     static constexpr std::uint32_t grid_tile_size = 128;      // entries at most, a power of two
     static constexpr std::uint32_t grid_tile_minimum = 32;    // entries at least, a power of two:
                                                               // the tiles of `grid_tiles`, which a
@@ -553,66 +551,20 @@ struct Renderer::Impl {
     std::vector<float> grid_planes;
     std::vector<restir::LightSampleRef> grid_references;
     restir::LightTileArrays grid_tiles;
-    SceneBounds grid_box;      // the scene's box, laid out in cells by the first fill_grid
-    glm::uvec3 grid_cells{0u}; // along each axis
-    glm::vec3 grid_cell_size{0.0f};
+    restir::LightGridLayout grid; // laid out by the first fill_grid: the scene does not change
     std::vector<std::uint32_t> cell_tiles;   // per cell: its tile this frame, or none
     std::vector<std::uint32_t> used_cells;   // per cell looked up this frame (a "tile"): the cell
     std::vector<std::uint32_t> tile_entries; // per tile: its entries
     std::vector<std::uint32_t> grid_starts;  // per tile: its first tile of `grid_tiles`
     std::vector<std::uint32_t> pixel_tiles;  // per pixel: its tile this frame
 
-    void lay_out_grid() {
-        grid_box = bounds_of(scene);
-        const glm::vec3 size = glm::max(grid_box.upper - grid_box.lower, glm::vec3(1e-6f * extent));
-        const auto along_longest = static_cast<float>(settings.grid_cells);
-        const float side = std::max({size.x, size.y, size.z}) / along_longest;
-        grid_cells = glm::uvec3(
-            glm::clamp(glm::round(size / side), glm::vec3(1.0f), glm::vec3(along_longest)));
-        grid_cell_size = size / glm::vec3(grid_cells);
-        cell_tiles.assign(std::size_t{grid_cells.x} * grid_cells.y * grid_cells.z, ~0u);
-    }
-    std::uint32_t cell_of(glm::vec3 p) const {
-        const glm::vec3 t = (p - grid_box.lower) / grid_cell_size;
-        const auto clamped = [](float v, std::uint32_t n) {
-            return std::min(n - 1u, static_cast<std::uint32_t>(std::max(v, 0.0f)));
-        };
-        return clamped(t.x, grid_cells.x) +
-               grid_cells.x *
-                   (clamped(t.y, grid_cells.y) + grid_cells.y * clamped(t.z, grid_cells.z));
-    }
-    restir::ShadingPoint cell_region(std::uint32_t cell) const {
-        const glm::vec3 index(static_cast<float>(cell % grid_cells.x),
-                              static_cast<float>(cell / grid_cells.x % grid_cells.y),
-                              static_cast<float>(cell / (grid_cells.x * grid_cells.y)));
-        // 1 % more than the diagonal, for points on the box's faces and rounding.
-        return {grid_box.lower + (index + 0.5f) * grid_cell_size, glm::vec3(0.0f),
-                1.01f * glm::length(grid_cell_size) + ray_offset};
-    }
     void fill_grid(std::uint32_t frame_index) {
-        if (cell_tiles.empty()) // the scene does not change: laid out once
-            lay_out_grid();
-        for (const std::uint32_t cell : used_cells)
-            cell_tiles[cell] = ~0u;
-        used_cells.clear();
-        tile_entries.clear();
-        pixel_tiles.assign(surfaces.size(), 0u);
-        for (std::uint32_t i = 0; i < surfaces.size(); ++i) {
-            if (!surfaces[i].valid)
-                continue;
-            restir::Pcg32 rng =
-                restir::make_pixel_rng(i, frame_index, RenderStream::grid_jitter, settings.seed);
-            const float u = next_float(rng), v = next_float(rng), w = next_float(rng);
-            const std::uint32_t cell =
-                cell_of(surfaces[i].position + (glm::vec3(u, v, w) - 0.5f) * grid_cell_size);
-            if (cell_tiles[cell] == ~0u) {
-                cell_tiles[cell] = static_cast<std::uint32_t>(used_cells.size());
-                used_cells.push_back(cell);
-                tile_entries.push_back(0u);
-            }
-            pixel_tiles[i] = cell_tiles[cell];
-            ++tile_entries[pixel_tiles[i]]; // its pixels, for now
+        if (cell_tiles.empty()) {
+            const SceneBounds box = bounds_of(scene);
+            grid = restir::LightGridLayout::over(box.lower, box.upper, settings.grid_cells);
+            cell_tiles.assign(grid.cell_count(), ~0u);
         }
+        look_up_cells(frame_index);
         const auto tiles_used = static_cast<std::uint32_t>(used_cells.size());
         grid_starts.resize(tiles_used);
         std::uint32_t blocks = 0; // of grid_tile_minimum entries
@@ -625,103 +577,54 @@ struct Renderer::Impl {
         grid_planes.resize(std::size_t{blocks} * grid_tile_minimum * restir::tile_plane_count);
         grid_references.resize(std::size_t{blocks} * grid_tile_minimum);
         grid_tiles = {grid_planes.data(), grid_references.data(), blocks, grid_tile_minimum};
+        const restir::PowerLightSampler power{light_table.view()};
+        const auto node_of = [this](std::uint32_t id) -> const restir::LightBvhNode& {
+            return light_nodes[id];
+        };
         arena.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0u, tiles_used, 1u),
-                              [&](const tbb::blocked_range<std::uint32_t>& range) {
-                                  for (std::uint32_t t = range.begin(); t < range.end(); ++t)
-                                      fill_grid_tile(t, frame_index);
-                              });
+            tbb::parallel_for(
+                tbb::blocked_range<std::uint32_t>(0u, tiles_used, 1u),
+                [&](const tbb::blocked_range<std::uint32_t>& range) {
+                    std::vector<restir::GridCandidate> candidates(grid_tile_size *
+                                                                  grid_fill_candidates);
+                    for (std::uint32_t t = range.begin(); t < range.end(); ++t) {
+                        const std::uint32_t cell = used_cells[t];
+                        restir::Pcg32 rng = restir::make_pixel_rng(
+                            cell, frame_index, RenderStream::light_tiles, settings.seed);
+                        restir::resample_grid_tile(
+                            power, grid.cell_region(cell), node_of, lights, rng, tile_entries[t],
+                            grid_fill_candidates, candidates.data(),
+                            [&](std::uint32_t j, const restir::PresampledLight& entry) {
+                                grid_tiles.store(grid_starts[t] + j / grid_tile_minimum,
+                                                 j % grid_tile_minimum, entry, falloff);
+                            });
+                    }
+                });
         });
     }
 
-    // A cell's tile: each entry RIS over its own `grid_fill_candidates` power-proportional
-    // candidates with the lights' importance bounds at the cell's region as the target, its
-    // contribution weight W standing for the entry's 1 / pdf (an unbiased contribution weight
-    // may replace 1 / p in RIS: Lin et al. 2022, GRIS). Positive wherever a light reaches a
-    // point of the region. The tile's candidates are all drawn first and weighed after, their
-    // alias-table buckets and bounds asked for ahead: the fill is bound by those cache misses.
-    void fill_grid_tile(std::uint32_t tile, std::uint32_t frame_index) {
-        constexpr std::uint32_t m = grid_fill_candidates;
-        const std::uint32_t cell = used_cells[tile];
-        restir::Pcg32 rng =
-            restir::make_pixel_rng(cell, frame_index, RenderStream::light_tiles, settings.seed);
-        const std::uint32_t count = m * tile_entries[tile];
-        GridCandidates candidates;
-        draw_grid_candidates(rng, count, candidates);
-        weigh_grid_candidates(cell_region(cell), count, candidates);
-        const std::span<const float> weight(candidates.weight);
-        for (std::uint32_t j = 0; j < tile_entries[tile]; ++j) {
-            // Entry j: one of candidates [j m, j m + m) in proportion to w (Eq. 3.2 of Talbot
-            // 2005), W = sum(w) / (m p^(y)).
-            const std::uint32_t first = j * m;
-            float total = 0.0f;
-            for (std::uint32_t k = first; k < first + m; ++k)
-                total += weight[k];
-            float x = next_float(rng) * total;
-            std::uint32_t chosen = first;
-            for (std::uint32_t k = first; k < first + m; ++k) {
-                chosen = weight[k] > 0.0f ? k : chosen;
-                if (x < weight[k])
-                    break;
-                x -= weight[k];
+    // Each pixel's cell this frame, looked up with a jitter; the cells looked up become the
+    // frame's tiles, each counting its pixels in `tile_entries` for now.
+    void look_up_cells(std::uint32_t frame_index) {
+        for (const std::uint32_t cell : used_cells)
+            cell_tiles[cell] = ~0u;
+        used_cells.clear();
+        tile_entries.clear();
+        pixel_tiles.assign(surfaces.size(), 0u);
+        for (std::uint32_t i = 0; i < surfaces.size(); ++i) {
+            if (!surfaces[i].valid)
+                continue;
+            restir::Pcg32 rng =
+                restir::make_pixel_rng(i, frame_index, RenderStream::grid_jitter, settings.seed);
+            const float u = next_float(rng), v = next_float(rng), w = next_float(rng);
+            const std::uint32_t cell = grid.jittered_cell_of(surfaces[i].position, {u, v, w});
+            if (cell_tiles[cell] == ~0u) {
+                cell_tiles[cell] = static_cast<std::uint32_t>(used_cells.size());
+                used_cells.push_back(cell);
+                tile_entries.push_back(0u);
             }
-            const std::uint32_t id = candidates.ids[chosen];
-            const float target = weight[chosen] * light_table.view().pmf(id); // p^(y)
-            const float pdf =
-                total > 0.0f && target > 0.0f ? target * static_cast<float>(m) / total : 0.0f;
-            grid_tiles.store(grid_starts[tile] + j / grid_tile_minimum, j % grid_tile_minimum,
-                             restir::presampled(restir::with_uniform_point({id, pdf}, rng), lights),
-                             falloff);
-        }
-    }
-
-    // A tile's candidates: light ids, and their pmfs, then their RIS weights w = p^ / pmf.
-    struct GridCandidates {
-        std::array<std::uint32_t, grid_tile_size * grid_fill_candidates> ids;
-        std::array<float, grid_tile_size * grid_fill_candidates> weight;
-    };
-    // `count` lights by power, their alias-table buckets asked for 64 draws at a time.
-    void draw_grid_candidates(restir::Pcg32& rng, std::uint32_t count,
-                              GridCandidates& candidates) const {
-        constexpr std::uint32_t chunk = 64;
-        static_assert(grid_tile_minimum * grid_fill_candidates % chunk == 0u);
-        const restir::AliasTableView table = light_table.view();
-        for (std::uint32_t first = 0; first < count; first += chunk) {
-            float u[chunk][2];
-            for (std::uint32_t k = 0; k < chunk; ++k) {
-                u[k][0] = next_float(rng);
-                u[k][1] = next_float(rng);
-                __builtin_prefetch(
-                    &table.entries[restir::wide_uniform_index(u[k][0], u[k][1], table.size).index]);
-            }
-            for (std::uint32_t k = 0; k < chunk; ++k) {
-                const restir::DiscreteSample c = table.sample(u[k][0], u[k][1]);
-                candidates.ids[first + k] = c.index;
-                candidates.weight[first + k] = c.pmf;
-            }
-        }
-    }
-    // The candidates' RIS weights at `region`: their importance bounds there over their pmfs,
-    // four lights' bounds side by side (`LightBvhGroup::importance`), each light's asked for 16
-    // candidates ahead.
-    void weigh_grid_candidates(const restir::ShadingPoint& region, std::uint32_t count,
-                               GridCandidates& candidates) const {
-        constexpr std::uint32_t ahead = 16;
-        constexpr std::uint32_t lanes = restir::LightBvhGroup::lanes;
-        static_assert(grid_tile_minimum * grid_fill_candidates % lanes == 0u);
-        for (std::uint32_t k = 0; k < ahead; ++k)
-            __builtin_prefetch(&light_nodes[candidates.ids[k]]);
-        for (std::uint32_t k = 0; k < count; k += lanes) {
-            float importance[lanes];
-            for (std::uint32_t c = 0; c < lanes; ++c) {
-                if (k + c + ahead < count)
-                    __builtin_prefetch(&light_nodes[candidates.ids[k + c + ahead]]);
-                importance[c] = restir::light_importance(light_nodes[candidates.ids[k + c]], region);
-            }
-            for (std::uint32_t c = 0; c < lanes; ++c) {
-                const float pmf = candidates.weight[k + c];
-                candidates.weight[k + c] = pmf > 0.0f ? importance[c] / pmf : 0.0f;
-            }
+            pixel_tiles[i] = cell_tiles[cell];
+            ++tile_entries[pixel_tiles[i]];
         }
     }
 

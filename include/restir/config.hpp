@@ -27,6 +27,14 @@
 #define RESTIR_UNROLL
 #endif
 
+/// Asks for the cache line at `address` ahead of a load that is known early but needed later
+/// (host code compiled by GCC or Clang; nothing elsewhere).
+#if (defined(__GNUC__) || defined(__clang__)) && !defined(__CUDA_ARCH__)
+#define RESTIR_PREFETCH(address) __builtin_prefetch(address)
+#else
+#define RESTIR_PREFETCH(address) static_cast<void>(address)
+#endif
+
 /// Debug assertion on internal invariants. Define RESTIR_ASSERT before including any restir
 /// header to route it elsewhere; by default it follows `assert` (off under NDEBUG).
 #ifndef RESTIR_ASSERT

@@ -33,6 +33,7 @@
 #include "restir/sampling/alias_table.hpp"
 #include "restir/sampling/diffuse_direction.hpp"
 #include "restir/sampling/light_candidates.hpp"
+#include "restir/sampling/light_grid.hpp"
 #include "restir/sampling/light_sampler.hpp"
 #include "restir/sampling/light_tile_arrays.hpp"
 #include "restir/sampling/light_tiles.hpp"

@@ -158,6 +158,31 @@ __global__ void light_bvh_kernel(restir::LightBvhView bvh, const glm::vec3* emit
     out[i] = c.pdf + bvh.pmf(at, c.sample.light_id) + four[0].pmf + four[3].pmf;
 }
 
+// A grid cell's tile (ReGIR): one thread resamples one cell's entries from power candidates
+// by the lights' importance bounds at the cell's region, into structure-of-arrays tiles.
+__global__ void light_grid_kernel(restir::LightGridLayout grid, const restir::LightBvhNode* nodes,
+                                  const glm::vec3* emitters, std::uint32_t emitter_count,
+                                  const restir::AliasEntry* alias_entries,
+                                  restir::GridCandidate* scratch, float* planes,
+                                  restir::LightSampleRef* references) {
+    const auto cell = static_cast<std::uint32_t>(blockIdx.x * blockDim.x + threadIdx.x);
+    if (cell >= grid.cell_count())
+        return;
+    constexpr std::uint32_t entries = 8u, per_entry = 4u;
+    restir::Pcg32 rng = restir::make_pixel_rng(cell, 0u, restir::RngStream::application);
+    const restir::PowerLightSampler sampler{restir::AliasTableView{alias_entries, emitter_count}};
+    const PointEmitters lights{emitters, emitter_count};
+    const restir::LightTileArrays tiles{planes, references, grid.cell_count(), entries};
+    const auto node_of = [nodes](std::uint32_t id) -> const restir::LightBvhNode& {
+        return nodes[id];
+    };
+    restir::resample_grid_tile(sampler, grid.cell_region(cell), node_of, lights, rng, entries,
+                               per_entry, scratch + cell * entries * per_entry,
+                               [&](std::uint32_t j, const restir::PresampledLight& entry) {
+                                   tiles.store(cell, j, entry, restir::Falloff{});
+                               });
+}
+
 // Batch RIS over structure-of-arrays tiles, with reservoirs that carry their light point:
 // the tile fill, the block evaluation, the selection, the point sample and its visibility.
 struct NeverOccluded {

@@ -358,12 +358,12 @@ private:
     // weighed: at a million lights the groups below the top levels are not in cache, and the
     // loads would otherwise wait for the choice.
     RESTIR_HOST_DEVICE void prefetch_children(const LightBvhGroup& g) const {
-#if (defined(__GNUC__) || defined(__clang__)) && !defined(__CUDA_ARCH__)
+#if !defined(__CUDA_ARCH__)
         for (std::uint32_t c = 0u; c < arity; ++c) {
             if (!g.is_leaf(c)) {
                 const char* child = reinterpret_cast<const char*>(&groups[g.child_or_light[c]]);
                 for (std::uint32_t line = 0u; line < sizeof(LightBvhGroup); line += 64u)
-                    __builtin_prefetch(child + line);
+                    RESTIR_PREFETCH(child + line);
             }
         }
 #else

@@ -58,6 +58,13 @@ struct AliasTableView {
                                        __builtin_bit_cast(std::uint32_t, entry.alias_pmf)))};
     }
 
+    /// The bucket that `sample(u0, u1)` reads, for a prefetch: draw the numbers of many draws
+    /// first and prefetch their buckets, so that their cache misses overlap. (Prefetched by the
+    /// caller: inside a member function GCC 12 dropped the prefetch in some callers.)
+    RESTIR_HOST_DEVICE constexpr const void* prefetch_address(float u0, float u1) const noexcept {
+        return size > 0u ? &entries[wide_uniform_index(u0, u1, size).index] : entries;
+    }
+
     /// Probability that `sample` returns `index`; 0 outside the table.
     RESTIR_HOST_DEVICE constexpr float pmf(std::uint32_t index) const noexcept {
         return index < size ? entries[index].pmf : 0.0f;

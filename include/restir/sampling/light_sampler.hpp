@@ -48,6 +48,10 @@ struct PowerLightSampler {
     RESTIR_HOST_DEVICE constexpr DiscreteSample sample(float u0, float u1) const noexcept {
         return table.sample(u0, u1);
     }
+    /// What `sample(u0, u1)` reads, for a prefetch (`AliasTableView::prefetch_address`).
+    RESTIR_HOST_DEVICE constexpr const void* prefetch_address(float u0, float u1) const noexcept {
+        return table.prefetch_address(u0, u1);
+    }
     RESTIR_HOST_DEVICE constexpr float pmf(std::uint32_t id) const noexcept {
         return table.pmf(id);
     }
