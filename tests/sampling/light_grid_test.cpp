@@ -142,6 +142,39 @@ TEST(LightGrid, EntriesAreUnbiasedAtEveryPointOfTheirRegion) {
     }
 }
 
+// Without candidates, or with no light that can reach the region, the entries are empty.
+TEST(LightGrid, EntriesWithoutLightsAreEmpty) {
+    const Lights lights(10u);
+    const restir::AliasTable table(lights.powers);
+    const restir::PowerLightSampler sampler{table.view()};
+    const auto node_of = [&](std::uint32_t id) -> const restir::LightBvhNode& {
+        return lights.nodes[id];
+    };
+    // Every light faces +x with a narrow cone; the region lies far behind them.
+    Lights facing(10u);
+    for (std::uint32_t id = 0; id < facing.light_count(); ++id) {
+        restir::LightBounds b =
+            restir::point_light_bounds(facing.positions[id], {1.0f, 0.0f, 0.0f}, facing.powers[id]);
+        facing.nodes[id] = restir::light_bvh_node(b);
+    }
+    const auto facing_node = [&](std::uint32_t id) -> const restir::LightBvhNode& {
+        return facing.nodes[id];
+    };
+    const restir::ShadingPoint behind{{-100.0f, 2.0f, 5.0f}, glm::vec3(0.0f), 1.0f};
+    std::vector<restir::GridCandidate> scratch(8u * 4u);
+    restir::Pcg32 rng = restir::make_pixel_rng(31u, 0u, 0u, 37u);
+    int stored = 0;
+    const auto expect_empty = [&](std::uint32_t, const restir::PresampledLight& e) {
+        EXPECT_EQ(e.pdf, 0.0f);
+        ++stored;
+    };
+    restir::resample_grid_tile(sampler, behind, facing_node, facing, rng, 8u, 4u, scratch.data(),
+                               expect_empty);
+    restir::resample_grid_tile(sampler, behind, node_of, lights, rng, 8u, 0u, nullptr,
+                               expect_empty);
+    EXPECT_EQ(stored, 16);
+}
+
 // Entries take lights that matter at the region: far more often than power alone would.
 TEST(LightGrid, EntriesFavourTheRegionsLights) {
     const Lights lights(200u);

@@ -105,10 +105,11 @@ struct GridCandidate {
 /// contribution weight W = sum(w) / (M p^(y)), which may stand for 1 / p in RIS at any point of
 /// the region (Lin et al. 2022, GRIS): positive for every light that reaches a point of it.
 /// `store(j, entry)` receives the entries; `scratch` holds entry_count * candidates_per_entry
-/// candidates. All lights are drawn first (what each draw reads asked for ahead when the
-/// sampler tells it, `prefetch_address(u0, u1)`, as `PowerLightSampler` does), then weighed (their
-/// bounds prefetched ahead), then chosen: on a CPU the loops carry no chain from one candidate to
-/// the next, so their cache misses overlap.
+/// candidates. An entry stays empty (pdf 0) when none of its candidates has a positive weight,
+/// or when their weights overflow a float. All lights are drawn first (what each draw reads asked
+/// for ahead when the sampler tells it, `prefetch_address(u0, u1)`, as `PowerLightSampler` does),
+/// then weighed (their bounds prefetched ahead), then chosen: on a CPU the loops carry no chain
+/// from one candidate to the next, so their cache misses overlap.
 template <LightSampler Sampler, class NodeOf, LightSet Lights, UniformRng Rng, class Store>
 RESTIR_HOST_DEVICE void
 resample_grid_tile(const Sampler& sampler, const ShadingPoint& region, const NodeOf& node_of,
@@ -158,7 +159,7 @@ resample_grid_tile(const Sampler& sampler, const ShadingPoint& region, const Nod
                 break;
             x -= first[k].weight;
         }
-        const GridCandidate& y = first[chosen];
+        const GridCandidate y = m > 0u ? first[chosen] : GridCandidate{};
         const float pdf = total > 0.0f && y.target > 0.0f && is_finite(total)
                               ? y.target * static_cast<float>(m) / total
                               : 0.0f;
