@@ -1240,16 +1240,16 @@ std::uint64_t estimated_memory_bytes(const RenderSettings& settings, bool with_r
         (settings.method == Method::restir ? 384u : 192u) + (with_reference ? 48u : 0u);
     const std::uint64_t vpls = settings.gi == GlobalIllumination::vpl ? settings.vpls : 0u;
     // bvh's light tree: 124 bytes more per VPL measured at 1M VPLs (grid's per-light nodes
-    // need less); the grid's tiles at most: a cell looked up has fewer than 2 entries per pixel
-    // that looks it up, and at least 32, of 64 bytes each.
+    // need less); the grid at most: its cells' tile indices (4 bytes a cell), and its tiles (a
+    // cell looked up has fewer than 2 entries per pixel that looks it up, and at least 32, of
+    // 64 bytes each).
     const bool bvh =
         settings.source == CandidateSource::bvh || settings.source == CandidateSource::grid;
-    const std::uint64_t grid =
-        settings.source == CandidateSource::grid
-            ? pixels * 128u + std::min(pixels, std::uint64_t{settings.grid_cells} *
-                                                   settings.grid_cells * settings.grid_cells) *
-                                  2048u
-            : 0u;
+    const std::uint64_t cells =
+        std::uint64_t{settings.grid_cells} * settings.grid_cells * settings.grid_cells;
+    const std::uint64_t grid = settings.source == CandidateSource::grid
+                                   ? cells * 4u + pixels * 128u + std::min(pixels, cells) * 2048u
+                                   : 0u;
     return (32u << 20u) + pixels * per_pixel + vpls * (bvh ? 224u : 96u) + grid;
 }
 

@@ -104,8 +104,8 @@ struct FrameTimings {
 /// Peak memory a render with `settings` needs, in bytes, about: per pixel 384 bytes for ReSTIR
 /// (G-buffers of two frames, three reservoir buffers, the images) and 192 for the other methods,
 /// 48 more per pixel with a reference (the reference image and the error measures), 96 per
-/// VPL asked for (224 with the light BVH of --source bvh or grid), for the grid's tiles at most
-/// 128 bytes per pixel and 2 KB per cell looked up, 32 MB besides (measured peaks: 361 and 176
+/// VPL asked for (224 with the light BVH of --source bvh or grid), for the grid at most 4 bytes
+/// a cell, 128 bytes a pixel and 2 KB a cell looked up, 32 MB besides (measured peaks: 361 and 176
 /// bytes per pixel at 2048 x 2048, 79 per VPL at 1M VPLs, 124 more per VPL with the BVH).
 std::uint64_t estimated_memory_bytes(const RenderSettings& settings, bool with_reference);
 
