@@ -90,7 +90,8 @@ struct Lights {
 // What a light gives a point x with normal n, by the same bound (exact for a point light but
 // for the falloff's clamp): positive only where the region's bound is.
 double contribution(const Lights& lights, std::uint32_t id, glm::vec3 x, glm::vec3 n) {
-    return restir::light_importance(lights.nodes[id], restir::ShadingPoint{x, n});
+    return static_cast<double>(
+        restir::light_importance(lights.nodes[id], restir::ShadingPoint{x, n}));
 }
 
 // An entry's 1 / pdf is an unbiased contribution weight at every point that can look its cell
