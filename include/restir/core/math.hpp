@@ -46,14 +46,19 @@ RESTIR_HOST_DEVICE constexpr T max_of(T a, T b) noexcept {
     return a < b ? b : a;
 }
 
-/// `condition ? a : b` through bit masks. Both values are computed before the choice, and
-/// compilers keep it a select (a vector blend): from a plain `?:` GCC 12 may move the untaken
-/// side's arithmetic under the condition, and a loop with such conditional operations no longer
-/// vectorises without masked vector instructions.
+/// `condition ? a : b` through a bit mask, without a branch.
+RESTIR_HOST_DEVICE constexpr std::uint32_t select_bits(bool condition, std::uint32_t a,
+                                                       std::uint32_t b) noexcept {
+    return b ^ ((a ^ b) & (0u - static_cast<std::uint32_t>(condition)));
+}
+
+/// `condition ? a : b` for floats through a bit mask. Both values are computed before the
+/// choice, and compilers keep it a select (a vector blend): from a plain `?:` GCC 12 may move the
+/// untaken side's arithmetic under the condition, and a loop with such conditional operations
+/// no longer vectorises without masked vector instructions.
 RESTIR_HOST_DEVICE constexpr float select_float(bool condition, float a, float b) noexcept {
-    const std::uint32_t mask = 0u - static_cast<std::uint32_t>(condition);
-    return __builtin_bit_cast(float, (__builtin_bit_cast(std::uint32_t, a) & mask) |
-                                         (__builtin_bit_cast(std::uint32_t, b) & ~mask));
+    return __builtin_bit_cast(float, select_bits(condition, __builtin_bit_cast(std::uint32_t, a),
+                                                 __builtin_bit_cast(std::uint32_t, b)));
 }
 
 /// Index in [0, count) from a uniform number u in [0, 1) (count > 0); robust to u rounding up

@@ -327,14 +327,11 @@ private:
         }
         child = min_of(child, last_positive);
 #if defined(__CUDA_ARCH__)
-        std::uint32_t start_bits = 0u, chosen_bits = 0u;
+        float start = 0.0f, chosen = 0.0f;
         for (std::uint32_t c = 0u; c < arity; ++c) {
-            const std::uint32_t mask = 0u - (c == child ? 1u : 0u);
-            start_bits |= __builtin_bit_cast(std::uint32_t, c == 0u ? 0.0f : prefix[c - 1u]) & mask;
-            chosen_bits |= __builtin_bit_cast(std::uint32_t, importance[c]) & mask;
+            start = select_float(c == child, c == 0u ? 0.0f : prefix[c - 1u], start);
+            chosen = select_float(c == child, importance[c], chosen);
         }
-        const float start = __builtin_bit_cast(float, start_bits);
-        const float chosen = __builtin_bit_cast(float, chosen_bits);
 #else
         // On a CPU, loads at a runtime index (compilers turn the masks into branches).
         float before_child[arity];

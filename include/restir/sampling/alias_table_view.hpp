@@ -26,13 +26,6 @@ struct AliasEntry {
 static_assert(std::is_trivially_copyable_v<AliasEntry>);
 static_assert(sizeof(AliasEntry) == 16);
 
-/// `keep ? a : b` without a branch: in a draw, which side wins is random, so a branch would
-/// mispredict.
-RESTIR_HOST_DEVICE constexpr std::uint32_t select_bits(bool keep, std::uint32_t a,
-                                                       std::uint32_t b) noexcept {
-    return b ^ ((a ^ b) & (0u - static_cast<std::uint32_t>(keep)));
-}
-
 /// Non-owning, device-callable view of an alias table (for instance a copy of
 /// `AliasTable::entries()` uploaded to GPU memory).
 struct AliasTableView {
@@ -52,10 +45,10 @@ struct AliasTableView {
         const AliasEntry entry = entries[bucket.index];
         // Exact in float on both sides; a threshold of 1 always keeps the bucket.
         const bool keep = static_cast<float>(bucket.fraction) < entry.threshold * 16777216.0f;
+        // Selects without branches (core/math.hpp): which side wins is random, so a branch
+        // would mispredict.
         return {select_bits(keep, bucket.index, entry.alias),
-                __builtin_bit_cast(
-                    float, select_bits(keep, __builtin_bit_cast(std::uint32_t, entry.pmf),
-                                       __builtin_bit_cast(std::uint32_t, entry.alias_pmf)))};
+                select_float(keep, entry.pmf, entry.alias_pmf)};
     }
 
     /// The bucket that `sample(u0, u1)` reads, for a prefetch: draw the numbers of many draws
