@@ -49,21 +49,11 @@ static_assert(std::is_trivially_copyable_v<LightBvhNode>);
 static_assert(sizeof(LightBvhNode) == 48u);
 
 namespace detail {
-// cos(max(0, a - b)) and sin(max(0, a - b)) from the sines and cosines of a, b in [0, pi].
-RESTIR_HOST_DEVICE inline float cos_difference_clamped(float sin_a, float cos_a, float sin_b,
-                                                       float cos_b) noexcept {
-    return select_float(cos_a > cos_b, 1.0f, cos_a * cos_b + sin_a * sin_b);
-}
-RESTIR_HOST_DEVICE inline float sin_difference_clamped(float sin_a, float cos_a, float sin_b,
-                                                       float cos_b) noexcept {
-    return select_float(cos_a > cos_b, 0.0f, sin_a * cos_b - cos_a * sin_b);
-}
+// sin(theta) from cos(theta), theta in [0, pi].
 RESTIR_HOST_DEVICE inline float sine_of(float cosine) noexcept {
     return std::sqrt(max_of(0.0f, 1.0f - cosine * cosine));
 }
-} // namespace detail
 
-namespace detail {
 // The importance bound of Conty Estevez and Kulla 2018 (Eq. 3) from a node's fields: the one
 // formula of `light_importance` and of the four lanes of a `LightBvhGroup`. Selects rather than
 // branches throughout (the outcomes vary from node to node, and the lanes vectorise), as
@@ -79,36 +69,45 @@ RESTIR_HOST_DEVICE inline float importance_bound(glm::vec3 centre, float node_ra
     const glm::vec3 from_centre = at.position - centre;
     const float distance_squared = glm::dot(from_centre, from_centre);
     const float radius_squared = radius * radius;
-    const float inverse_distance =
-        select_float(distance_squared > 0.0f, 1.0f / std::sqrt(distance_squared), 0.0f);
     const float falloff = 1.0f / max_of(distance_squared, radius_squared);
-    // Cosines as projections times 1 / d, sines as sqrt(d^2 - projection^2) / d: their square
-    // roots run beside the one of d^2 instead of after it, which shortens a draw's dependent
-    // chain of levels.
+    // Outside the sphere every cosine and sine below is kept times d (a product of two, times
+    // d^2): cos(theta_w) d is the projection on the axis and sin(theta_w) d = sqrt(d^2 -
+    // projection^2). A descent waits on this bound at every level, and the scaled terms need no
+    // 1 / d before them: the square roots start right after d^2, and 1 / d^2 runs beside them.
+    const float distance = std::sqrt(distance_squared);
+    const float inverse_distance_squared = 1.0f / distance_squared;
     const float axis_projection = glm::dot(axis, from_centre);
     const float normal_projection = -glm::dot(at.normal, from_centre);
-    const bool inside = distance_squared <= radius_squared;
-    const float sin_b = select_float(inside, 0.0f, min_of(radius * inverse_distance, 1.0f));
-    const float cos_b =
-        select_float(inside, -1.0f,
-                     std::sqrt(max_of(distance_squared - radius_squared, 0.0f)) * inverse_distance);
-    const float cos_w = axis_projection * inverse_distance;
+    // theta_b: the half-angle of the node's sphere seen from the point.
+    const float sin_b = radius;
+    const float cos_b = std::sqrt(max_of(distance_squared - radius_squared, 0.0f));
+    const float cos_w = axis_projection;
     const float sin_w =
-        std::sqrt(max_of(distance_squared - axis_projection * axis_projection, 0.0f)) *
-        inverse_distance;
-    const float cos_x = cos_difference_clamped(sin_w, cos_w, sin_theta_o, cos_theta_o);
-    const float sin_x = sin_difference_clamped(sin_w, cos_w, sin_theta_o, cos_theta_o);
-    const float cos_emitted = cos_difference_clamped(sin_x, cos_x, sin_b, cos_b);
-    float importance = select_float(cos_emitted > cos_theta_e, power * falloff * cos_emitted, 0.0f);
-    // The receiver term (theta_i between the unit normal and the direction to the centre); none
-    // for a zero normal.
-    const bool has_normal = at.normal.x != 0.0f || at.normal.y != 0.0f || at.normal.z != 0.0f;
-    const float cos_i = normal_projection * inverse_distance;
+        std::sqrt(max_of(distance_squared - axis_projection * axis_projection, 0.0f));
+    // theta_x = max(0, theta_w - theta_o): the cone's half-angle taken off.
+    const bool within_cone = cos_w > cos_theta_o * distance;
+    const float cos_x =
+        select_float(within_cone, distance, cos_w * cos_theta_o + sin_w * sin_theta_o);
+    const float sin_x = select_float(within_cone, 0.0f, sin_w * cos_theta_o - cos_w * sin_theta_o);
+    // theta' = max(0, theta_x - theta_b), its cosine times d^2.
+    const float cos_emitted =
+        select_float(cos_x > cos_b, distance_squared, cos_x * cos_b + sin_x * sin_b);
+    // The receiver term (theta_i between the unit normal and the direction to the centre), its
+    // cosine times d^2; none for a zero normal.
+    const float cos_i = normal_projection;
     const float sin_i =
-        std::sqrt(max_of(distance_squared - normal_projection * normal_projection, 0.0f)) *
-        inverse_distance;
-    const float cos_received = cos_difference_clamped(sin_i, cos_i, sin_b, cos_b);
-    importance *= select_float(has_normal, max_of(cos_received, 0.0f), 1.0f);
+        std::sqrt(max_of(distance_squared - normal_projection * normal_projection, 0.0f));
+    const float cos_received =
+        select_float(cos_i > cos_b, distance_squared, cos_i * cos_b + sin_i * sin_b);
+    const bool has_normal = at.normal.x != 0.0f || at.normal.y != 0.0f || at.normal.z != 0.0f;
+    const float receiver =
+        select_float(has_normal, max_of(cos_received * inverse_distance_squared, 0.0f), 1.0f);
+    const float outside =
+        select_float(cos_emitted > cos_theta_e * distance_squared,
+                     power * falloff * (cos_emitted * inverse_distance_squared) * receiver, 0.0f);
+    // Inside the sphere (theta_b = pi) both cosines are 1.
+    const float inside = select_float(1.0f > cos_theta_e, power * falloff, 0.0f);
+    const float importance = select_float(distance_squared <= radius_squared, inside, outside);
     return select_float(is_valid_weight(importance), importance, 0.0f);
 }
 } // namespace detail
