@@ -1,6 +1,8 @@
 // Microbenchmarks of the light BVH (restir/light/light_bvh.hpp) at 1k and 1M lights: building
 // it, one draw (`BM_LightBvh_Sample`) and one pmf at a shading point, beside one draw of the
-// power sampler (alias table) over the same lights.
+// power sampler (alias table) over the same lights, and `BM_RandomRead`: the machine's time for
+// one read that depends on the last, at random places in arrays of 1-64 MB, the floor under a
+// draw whose data does not fit in cache.
 //
 // The lights fill a 10^3 box: a third small area lights facing random directions, a third
 // cosine point emitters (VPLs), a third isotropic points, powers over three decades. The
@@ -16,8 +18,10 @@
 #include <glm/vec3.hpp>
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <map>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -148,5 +152,32 @@ void BM_PowerSampler_Sample(benchmark::State& state) {
     state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(BM_PowerSampler_Sample)->Arg(1000)->Arg(1 << 20);
+
+// A chain of dependent reads through one random cycle over 64-byte lines of an array of
+// state.range(0) MiB (Sattolo's shuffle): each read waits for the one before, as the levels of
+// a descent do.
+void BM_RandomRead(benchmark::State& state) {
+    struct alignas(64) Line {
+        std::uint32_t next;
+    };
+    const auto count = static_cast<std::uint32_t>(
+        (std::size_t{1} << 20u) * static_cast<std::size_t>(state.range(0)) / sizeof(Line));
+    std::vector<Line> lines(count);
+    std::vector<std::uint32_t> order(count);
+    for (std::uint32_t i = 0u; i < count; ++i)
+        order[i] = i;
+    restir::Pcg32 rng = restir::make_pixel_rng(4u, 0u, 0u, 1u);
+    for (std::uint32_t i = count - 1u; i > 0u; --i)
+        std::swap(order[i], order[restir::uniform_index(next_float(rng), i)]);
+    for (std::uint32_t i = 0u; i < count; ++i)
+        lines[order[i]].next = order[(i + 1u) % count];
+    std::uint32_t at = order[0];
+    for (auto _ : state) {
+        at = lines[at].next;
+        benchmark::DoNotOptimize(at);
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_RandomRead)->Arg(1)->Arg(4)->Arg(8)->Arg(16)->Arg(64);
 
 } // namespace
