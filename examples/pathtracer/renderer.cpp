@@ -603,28 +603,44 @@ struct Renderer::Impl {
         });
     }
 
-    // Each pixel's cell this frame, looked up with a jitter; the cells looked up become the
-    // frame's tiles, each counting its pixels in `tile_entries` for now.
+    // Each pixel's cell this frame, looked up with a jitter (in parallel); then, in pixel order,
+    // the cells looked up become the frame's tiles, each counting its pixels in `tile_entries`
+    // for now.
     void look_up_cells(std::uint32_t frame_index) {
         for (const std::uint32_t cell : used_cells)
             cell_tiles[cell] = ~0u;
         used_cells.clear();
         tile_entries.clear();
-        pixel_tiles.assign(surfaces.size(), 0u);
-        for (std::uint32_t i = 0; i < surfaces.size(); ++i) {
-            if (!surfaces[i].valid)
+        constexpr std::uint32_t no_cell = ~0u;
+        pixel_tiles.resize(surfaces.size());
+        arena.execute([&] {
+            tbb::parallel_for(
+                tbb::blocked_range<std::uint32_t>(0u, static_cast<std::uint32_t>(surfaces.size())),
+                [&](const tbb::blocked_range<std::uint32_t>& range) {
+                    for (std::uint32_t i = range.begin(); i < range.end(); ++i) {
+                        restir::Pcg32 rng = restir::make_pixel_rng(
+                            i, frame_index, RenderStream::grid_jitter, settings.seed);
+                        const float u = next_float(rng), v = next_float(rng), w = next_float(rng);
+                        pixel_tiles[i] =
+                            surfaces[i].valid
+                                ? grid.jittered_cell_of(surfaces[i].position, {u, v, w})
+                                : no_cell;
+                    }
+                });
+        });
+        for (std::uint32_t& tile : pixel_tiles) {
+            const std::uint32_t cell = tile;
+            if (cell == no_cell) {
+                tile = 0u;
                 continue;
-            restir::Pcg32 rng =
-                restir::make_pixel_rng(i, frame_index, RenderStream::grid_jitter, settings.seed);
-            const float u = next_float(rng), v = next_float(rng), w = next_float(rng);
-            const std::uint32_t cell = grid.jittered_cell_of(surfaces[i].position, {u, v, w});
+            }
             if (cell_tiles[cell] == ~0u) {
                 cell_tiles[cell] = static_cast<std::uint32_t>(used_cells.size());
                 used_cells.push_back(cell);
                 tile_entries.push_back(0u);
             }
-            pixel_tiles[i] = cell_tiles[cell];
-            ++tile_entries[pixel_tiles[i]];
+            tile = cell_tiles[cell];
+            ++tile_entries[tile];
         }
     }
 
