@@ -73,9 +73,9 @@ RESTIR_HOST_DEVICE inline float importance_bound(glm::vec3 centre, float node_ra
     // Outside the sphere every cosine and sine below is kept times d (a product of two, times
     // d^2): cos(theta_w) d is the projection on the axis and sin(theta_w) d = sqrt(d^2 -
     // projection^2). A descent waits on this bound at every level, and the scaled terms need no
-    // 1 / d before them: the square roots start right after d^2, and 1 / d^2 runs beside them.
+    // 1 / d before them: the square roots start right after d^2, and the falloff (1 / d^2
+    // outside) runs beside them.
     const float distance = std::sqrt(distance_squared);
-    const float inverse_distance_squared = 1.0f / distance_squared;
     const float axis_projection = glm::dot(axis, from_centre);
     const float normal_projection = -glm::dot(at.normal, from_centre);
     // theta_b: the half-angle of the node's sphere seen from the point.
@@ -100,11 +100,9 @@ RESTIR_HOST_DEVICE inline float importance_bound(glm::vec3 centre, float node_ra
     const float cos_received =
         select_float(cos_i > cos_b, distance_squared, cos_i * cos_b + sin_i * sin_b);
     const bool has_normal = at.normal.x != 0.0f || at.normal.y != 0.0f || at.normal.z != 0.0f;
-    const float receiver =
-        select_float(has_normal, max_of(cos_received * inverse_distance_squared, 0.0f), 1.0f);
-    const float outside =
-        select_float(cos_emitted > cos_theta_e * distance_squared,
-                     power * falloff * (cos_emitted * inverse_distance_squared) * receiver, 0.0f);
+    const float receiver = select_float(has_normal, max_of(cos_received * falloff, 0.0f), 1.0f);
+    const float outside = select_float(cos_emitted > cos_theta_e * distance_squared,
+                                       power * falloff * (cos_emitted * falloff) * receiver, 0.0f);
     // Inside the sphere (theta_b = pi) both cosines are 1.
     const float inside = select_float(1.0f > cos_theta_e, power * falloff, 0.0f);
     const float importance = select_float(distance_squared <= radius_squared, inside, outside);
