@@ -611,7 +611,9 @@ struct Renderer::Impl {
             cell_tiles[cell] = ~0u;
         used_cells.clear();
         tile_entries.clear();
-        constexpr std::uint32_t no_cell = ~0u;
+        // `pixel_tiles` holds each pixel's cell until the pass in pixel order below replaces it
+        // with the cell's tile.
+        constexpr std::uint32_t no_cell = ~0u; // a pixel without a surface
         pixel_tiles.resize(surfaces.size());
         arena.execute([&] {
             tbb::parallel_for(
