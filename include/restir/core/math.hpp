@@ -53,9 +53,9 @@ RESTIR_HOST_DEVICE constexpr std::uint32_t select_bits(bool condition, std::uint
 }
 
 /// `condition ? a : b` for floats through a bit mask. Both values are computed before the
-/// choice, and compilers keep it a select (a vector blend): from a plain `?:` GCC 12 may move the
+/// choice, so it stays a select (a vector blend). From a plain `?:` a compiler may move the
 /// untaken side's arithmetic under the condition, and a loop with such conditional operations
-/// no longer vectorises without masked vector instructions.
+/// does not vectorise without masked vector instructions; use this in loops meant to vectorise.
 RESTIR_HOST_DEVICE constexpr float select_float(bool condition, float a, float b) noexcept {
     return __builtin_bit_cast(float, select_bits(condition, __builtin_bit_cast(std::uint32_t, a),
                                                  __builtin_bit_cast(std::uint32_t, b)));

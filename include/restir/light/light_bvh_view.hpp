@@ -57,7 +57,7 @@ RESTIR_HOST_DEVICE inline float sine_of(float cosine) noexcept {
 // The importance bound of Conty Estevez and Kulla 2018 (Eq. 3) from a node's fields: the one
 // formula of `light_importance` and of the four lanes of a `LightBvhGroup`. Selects rather than
 // branches throughout (the outcomes vary from node to node, and the lanes vectorise), as
-// `select_float`: with `?:` GCC 12 vectorised the lanes in some callers and not in others.
+// `select_float`: with `?:` whether the lanes vectorise depends on the caller.
 RESTIR_HOST_DEVICE inline float importance_bound(glm::vec3 centre, float node_radius,
                                                  glm::vec3 axis, float cos_theta_o,
                                                  float sin_theta_o, float cos_theta_e, float power,
@@ -182,10 +182,10 @@ static_assert(sizeof(LightBvhGroup) == 192u);
 
 RESTIR_HOST_DEVICE inline float LightBvhGroup::importance(const ShadingPoint& at,
                                                           float (&out)[lanes]) const {
-    // The fields spelled out: written as light_importance(node(c), at), GCC 12 vectorised the
-    // loop only once the bound's selects were bit masks, and batch draws were still slower
-    // (BM_LightBvh_SampleBatch<8> at 1k lights 99-101 -> 109-112 ns a draw). Check the
-    // benchmark after any change here.
+    // The fields spelled out rather than light_importance(node(c), at): that spelling
+    // vectorised less reliably and made batch draws slower (docs/performance.md, "Measured and
+    // rejected"). This loop is a draw's inner cost; check BM_LightBvh_SampleBatch after any
+    // change here.
     for (std::uint32_t c = 0u; c < lanes; ++c)
         out[c] =
             detail::importance_bound(glm::vec3(centre_x[c], centre_y[c], centre_z[c]), radius[c],

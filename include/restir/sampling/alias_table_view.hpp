@@ -52,8 +52,9 @@ struct AliasTableView {
     }
 
     /// The bucket that `sample(u0, u1)` reads, for a prefetch: draw the numbers of many draws
-    /// first and prefetch their buckets, so that their cache misses overlap. (Prefetched by the
-    /// caller: inside a member function GCC 12 dropped the prefetch in some callers.)
+    /// first and prefetch their buckets, so that their cache misses overlap. (The caller issues
+    /// the prefetch: one issued inside a member function is not guaranteed to survive inlining
+    /// into every caller.)
     RESTIR_HOST_DEVICE constexpr const void* prefetch_address(float u0, float u1) const noexcept {
         return size > 0u ? &entries[wide_uniform_index(u0, u1, size).index] : entries;
     }

@@ -172,9 +172,9 @@ evaluate_tile_block(const LightTileArrays& tiles, std::uint32_t tile, std::uint3
             tiles.group_plane(std::uint64_t{base} + group * lanes, TilePlane::position_x);
 #if defined(__CUDA_ARCH__)
         // Four lanes at a time, each plane's four values in one 16-byte load through the
-        // read-only cache: a thread reads its block's 416 bytes once. (With 4-byte loads the
-        // 32-byte sectors of 8 lanes came from L2 up to 8 times each, L1 holding too little
-        // for every thread's block: 13 GB of L2 traffic for 66M candidates at 1080p.)
+        // read-only cache: a thread reads its block's 416 bytes once. (With 4-byte loads a
+        // 32-byte sector of 8 lanes may be fetched from L2 once per lane, since L1 cannot hold
+        // every thread's block; docs/performance.md, "GPU".)
         RESTIR_ASSERT(reinterpret_cast<std::uintptr_t>(planes) % 16u == 0u);
         for (std::uint32_t quad = 0; quad < lanes; quad += 4u) {
             float4 values[tile_plane_count];
