@@ -1,5 +1,10 @@
 #include "renderer.hpp"
 
+#include "gbuffer.hpp"
+#include "pixel_blocks.hpp"
+#include "reservoir.hpp"
+#include "timing.hpp"
+
 #include "camera.hpp"
 #include "embree_scene.hpp"
 #include "lights.hpp"
@@ -30,25 +35,6 @@ using restir::inv_pi;
 
 float max_component(glm::vec3 c) { return std::max(c.x, std::max(c.y, c.z)); }
 
-/// A G-buffer texel: the primary hit of a pixel. Satisfies restir::Surface.
-struct GSurface {
-    glm::vec3 position{0.0f};
-    glm::vec3 normal{0.0f, 1.0f, 0.0f}; ///< Geometric normal, turned towards the viewer.
-    glm::vec3 albedo{0.0f};
-    glm::vec3 emitted{0.0f}; ///< Radiance the surface emits towards the viewer.
-    float depth = 0.0f;
-    bool valid = false;
-};
-glm::vec3 surface_position(const GSurface& s) { return s.position; }
-glm::vec3 surface_normal(const GSurface& s) { return s.normal; }
-float surface_depth(const GSurface& s) { return s.depth; }
-bool is_valid_surface(const GSurface& s) { return s.valid; }
-
-using Clock = std::chrono::steady_clock;
-double milliseconds_since(Clock::time_point start) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
 // Cosine-distributed direction about `normal` (restir's emission sampler).
 glm::vec3 sample_cosine(glm::vec3 normal, restir::Pcg32& rng) {
     const float u0 = next_float(rng);
@@ -59,27 +45,6 @@ glm::vec3 sample_cosine(glm::vec3 normal, restir::Pcg32& rng) {
 } // namespace
 
 using Unified = restir::UnifiedLightSet<TriangleEmitters>;
-// Reservoirs keep their light point (restir::LightPointSample): reuse evaluates p-hat at other
-// surfaces without reading the light and VPL arrays again.
-using Reservoir = restir::Reservoir<restir::LightPointSample>;
-static_assert(sizeof(Reservoir) == 64u, "one reservoir per cache line");
-
-// Storage on 64-byte boundaries, so that each reservoir is one cache line: reuse reads its
-// neighbours' at random, and a record across two lines costs two misses.
-template <class T>
-struct CacheLineAllocator {
-    using value_type = T;
-    CacheLineAllocator() = default;
-    template <class U>
-    CacheLineAllocator(const CacheLineAllocator<U>&) noexcept {}
-    T* allocate(std::size_t n) {
-        return static_cast<T*>(::operator new (n * sizeof(T), std::align_val_t{64}));
-    }
-    void deallocate(T* p, std::size_t) noexcept { ::operator delete (p, std::align_val_t{64}); }
-    bool operator==(const CacheLineAllocator&) const noexcept { return true; }
-};
-using ReservoirBuffer = std::vector<Reservoir, CacheLineAllocator<Reservoir>>;
-
 // The renderer's state (the scene's BVH and emitters, the light set, the G-buffers and
 // reservoirs of this frame and the last, the images) and its stages.
 struct Renderer::Impl {
@@ -91,6 +56,8 @@ struct Renderer::Impl {
     const float extent;            // scene_size: the length of the bounding box's diagonal
     const float ray_offset;        // 1e-4 of the extent
     const restir::Falloff falloff; // of the VPLs
+    PixelBlocks blocks;
+    GBuffer gbuffer;
     Camera camera, previous_camera;
 
     // The light set: the emitters and the VPL set of this frame.
@@ -105,7 +72,6 @@ struct Renderer::Impl {
     std::vector<restir::LightBvhNode> light_nodes; // each light's bounds (--source grid)
     restir::NeighbourOffsets offsets = restir::make_neighbour_offsets();
 
-    std::vector<GSurface> surfaces, previous_surfaces;
     ReservoirBuffer reservoirs, previous_reservoirs, scratch;
     // With --packed-history, the final reservoirs in storage form instead of
     // `previous_reservoirs`: next frame's history in 28 bytes a pixel instead of 64, its light
@@ -125,14 +91,15 @@ struct Renderer::Impl {
           extent(scene_size(scene)), ray_offset(1e-4f * extent),
           falloff(restir::Falloff::yuksel(
               settings.attenuation_radius > 0.0f ? settings.attenuation_radius : 0.02f * extent)),
+          blocks(settings.width, settings.height, arena),
+          gbuffer(scene, rays, blocks, std::size_t{settings.width} * settings.height, ray_offset,
+                  settings.antialias, settings.seed),
           camera(settings.camera, settings.width, settings.height), previous_camera(camera),
           frame_image(settings.width, settings.height),
           accumulated(settings.width, settings.height),
           sum(std::size_t{settings.width} * settings.height, glm::dvec3(0.0)) {
         shoot_vpls(0u);
         const std::size_t pixels = std::size_t{settings.width} * settings.height;
-        surfaces.resize(pixels);
-        previous_surfaces.resize(pixels);
         if (settings.method == Method::restir) {
             reservoirs.resize(pixels);
             if (settings.packed_history)
@@ -250,149 +217,32 @@ struct Renderer::Impl {
     bool visible(const restir::LightSampleRef& ref, const GSurface& s) const {
         return visibility()(ref, s);
     }
-    // p-hat of a reservoir's sample (which carries its light point): the Euclidean norm of the
-    // unshadowed reflected radiance's channels, which minimises the summed channel variance of
-    // one sample (restir::ChannelNorm; the channel sum left 6-8 % more error per frame in the
-    // Cornell box, mostly colour noise). (Luminance would weigh blue 0.07: a saturated blue
-    // light would be drawn 14 times too rarely for its blue channel.) The initial candidates
-    // use the same function in its batch form (restir::evaluate_tile_block with channel
-    // weights albedo / pi).
-    static constexpr restir::ChannelNorm target_norm = restir::ChannelNorm::euclidean;
-    float point_target(const restir::LightPointSample& sample, const GSurface& s) const {
-        return restir::fold_channels<target_norm>(
-            s.albedo * inv_pi * restir::unshadowed_irradiance(sample, s.position, s.normal));
-    }
     restir::LightPointVisibility<EmbreeScene> point_visibility() const {
         return {&rays, ray_offset};
     }
 
-    // --- Pixels --------------------------------------------------------------------------
-    // Pixels in 8 x 8 blocks, the blocks spread over the threads: a block's pixels share one
-    // light tile (initial candidates), nearby reservoirs (reuse) and coherent rays, which are
-    // traced together as Embree packets.
-    static constexpr std::uint32_t pixel_block = 8;
-    struct PixelBlock {
-        std::uint32_t x0, y0, x1, y1; // [x0, x1) x [y0, y1)
-    };
-    std::uint32_t block_columns() const {
-        return (settings.width + pixel_block - 1u) / pixel_block;
-    }
-    std::uint32_t block_rows() const { return (settings.height + pixel_block - 1u) / pixel_block; }
-    std::uint32_t block_count() const { return block_columns() * block_rows(); }
-    // The index of the block that holds pixel (x, y), and block `b`.
-    std::uint32_t block_of(std::uint32_t x, std::uint32_t y) const {
-        return x / pixel_block + (y / pixel_block) * block_columns();
-    }
-    PixelBlock block_at(std::uint32_t b) const {
-        const std::uint32_t x0 = b % block_columns() * pixel_block;
-        const std::uint32_t y0 = b / block_columns() * pixel_block;
-        return {x0, y0, std::min(settings.width, x0 + pixel_block),
-                std::min(settings.height, y0 + pixel_block)};
-    }
+    // --- Pixels: the pixel blocks and the G-buffer -------------------------------------------
+    static constexpr std::uint32_t pixel_block = pixel_block_side;
     template <class Body>
     void for_each_pixel_of(const PixelBlock& block, Body&& body) const {
-        for (std::uint32_t y = block.y0; y < block.y1; ++y)
-            for (std::uint32_t x = block.x0; x < block.x1; ++x)
-                body(x, y, x + y * settings.width);
+        blocks.for_each_pixel_of(block, body);
     }
-    // The blocks in squares of up to 8 x 8 blocks (64 x 64 pixels) per task: reuse reads
-    // neighbours up to 30 pixels away, and a square's pixels with that apron stay in cache,
-    // where rows of blocks would stream many megabytes of reservoirs per row.
     template <class BlockBody>
     void for_each_block(BlockBody&& body) {
-        const std::uint32_t columns = block_columns();
-        const std::uint32_t rows = block_rows();
-        arena.execute([&] {
-            tbb::parallel_for(
-                tbb::blocked_range2d<std::uint32_t>(0u, rows, 8u, 0u, columns, 8u),
-                [&](const tbb::blocked_range2d<std::uint32_t>& range) {
-                    for (std::uint32_t by = range.rows().begin(); by < range.rows().end(); ++by)
-                        for (std::uint32_t bx = range.cols().begin(); bx < range.cols().end(); ++bx)
-                            body(block_at(bx + by * columns));
-                },
-                tbb::simple_partitioner{});
-        });
+        blocks.for_each_block(body);
     }
-
-    // The blocks grouped by the light tile each draws its candidates from in `frame_index`,
-    // the tiles spread over the threads: each tile is read from memory once and then serves
-    // all its blocks from cache.
-    std::vector<std::uint32_t> blocks_by_tile, tile_starts;
     template <class BlockBody>
     void for_each_block_by_tile(std::uint32_t frame_index, BlockBody&& body) {
-        const std::uint32_t count = block_count();
-        tile_starts.assign(tile_count + 1u, 0u);
-        for (std::uint32_t b = 0; b < count; ++b)
-            ++tile_starts[tiles.tile_for(b, frame_index) + 1u];
-        for (std::uint32_t t = 0; t < tile_count; ++t)
-            tile_starts[t + 1u] += tile_starts[t];
-        blocks_by_tile.resize(count);
-        std::vector<std::uint32_t> next(tile_starts.begin(), tile_starts.end() - 1);
-        for (std::uint32_t b = 0; b < count; ++b)
-            blocks_by_tile[next[tiles.tile_for(b, frame_index)]++] = b;
-        arena.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0u, tile_count, 1u),
-                              [&](const tbb::blocked_range<std::uint32_t>& range) {
-                                  for (std::uint32_t k = tile_starts[range.begin()];
-                                       k < tile_starts[range.end()]; ++k)
-                                      body(block_at(blocks_by_tile[k]));
-                              });
-        });
+        blocks.for_each_block_by_tile(
+            tile_count, [&](std::uint32_t b) { return tiles.tile_for(b, frame_index); }, body);
     }
-
-    // Primary hits of a block's pixels (centres, or random points with antialiasing), as one
-    // packet query.
-    void trace_primary(const PixelBlock& block, std::uint32_t frame_index) {
-        std::array<glm::vec3, pixel_block * pixel_block> directions;
-        std::array<Hit, pixel_block * pixel_block> hits;
-        std::size_t n = 0;
-        for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
-            float jx = 0.5f, jy = 0.5f;
-            if (settings.antialias) {
-                restir::Pcg32 rng = restir::make_pixel_rng(
-                    i, frame_index, RenderStream::pixel_jitter, settings.seed);
-                jx = next_float(rng);
-                jy = next_float(rng);
-            }
-            directions[n++] =
-                camera.direction({static_cast<float>(x) + jx, static_cast<float>(y) + jy});
-        });
-        rays.closest_hits(camera.position(), std::span(directions.data(), n),
-                          std::span(hits.data(), n));
-        n = 0;
-        for_each_pixel_of(block, [&](std::uint32_t, std::uint32_t, std::uint32_t i) {
-            surfaces[i] = hits[n].found ? surface_at(hits[n], directions[n]) : GSurface{};
-            ++n;
-        });
-    }
-
-    // Visibility reuse for a block: every pixel's reservoir (`reservoir(i)`) whose sample is
-    // occluded from its surface gets W = 0, the shadow rays traced as one packet query; pixels
-    // for which `needs_test(i)` is false (their sample is known to be visible) are skipped.
     template <class ReservoirAt, class NeedsTest>
     void test_visibility(const PixelBlock& block, ReservoirAt&& reservoir, NeedsTest&& needs_test) {
-        std::array<glm::vec3, pixel_block * pixel_block> from, to;
-        std::array<std::uint32_t, pixel_block * pixel_block> pixel;
-        std::array<std::uint8_t, pixel_block * pixel_block> blocked;
-        std::size_t n = 0;
-        const restir::LightPointVisibility<EmbreeScene> visibility = point_visibility();
-        for_each_pixel_of(block, [&](std::uint32_t, std::uint32_t, std::uint32_t i) {
-            const Reservoir& res = reservoir(i);
-            if (!surfaces[i].valid || !res.has_sample() || !needs_test(i))
-                return;
-            const restir::ShadowSegment segment = visibility.segment(res.sample, surfaces[i]);
-            from[n] = segment.from;
-            to[n] = segment.to;
-            pixel[n++] = i;
-        });
-        rays.occluded_segments(std::span(from.data(), n), std::span(to.data(), n),
-                               std::span(blocked.data(), n));
-        for (std::size_t k = 0; k < n; ++k)
-            restir::apply_visibility(reservoir(pixel[k]), blocked[k] == 0u);
+        gbuffer.test_visibility(block, reservoir, needs_test);
     }
     template <class ReservoirAt>
     void test_visibility(const PixelBlock& block, ReservoirAt&& reservoir) {
-        test_visibility(block, reservoir, [](std::uint32_t) { return true; });
+        gbuffer.test_visibility(block, reservoir);
     }
 
     // The MIS shadow rays of a reuse pass, traced ahead as packets: pairwise MIS asks whether
@@ -430,7 +280,7 @@ struct Renderer::Impl {
             MisRayCache& cache = caches[local];
             cache.count = 0;
             const Reservoir& own = canonical(i);
-            if (!surfaces[i].valid || !own.has_sample())
+            if (!gbuffer.surfaces()[i].valid || !own.has_sample())
                 return;
             cache.sample = own.sample;
             std::array<const GSurface*, max_cached_rays> there{};
@@ -567,16 +417,16 @@ struct Renderer::Impl {
         look_up_cells(frame_index);
         const auto tiles_used = static_cast<std::uint32_t>(used_cells.size());
         grid_starts.resize(tiles_used);
-        std::uint32_t blocks = 0; // of grid_tile_minimum entries
+        std::uint32_t stored = 0; // tiles of `grid_tiles`, of grid_tile_minimum entries
         for (std::uint32_t t = 0; t < tiles_used; ++t) {
             tile_entries[t] =
                 std::clamp(std::bit_ceil(tile_entries[t]), grid_tile_minimum, grid_tile_size);
-            grid_starts[t] = blocks;
-            blocks += tile_entries[t] / grid_tile_minimum;
+            grid_starts[t] = stored;
+            stored += tile_entries[t] / grid_tile_minimum;
         }
-        grid_planes.resize(std::size_t{blocks} * grid_tile_minimum * restir::tile_plane_count);
-        grid_references.resize(std::size_t{blocks} * grid_tile_minimum);
-        grid_tiles = {grid_planes.data(), grid_references.data(), blocks, grid_tile_minimum};
+        grid_planes.resize(std::size_t{stored} * grid_tile_minimum * restir::tile_plane_count);
+        grid_references.resize(std::size_t{stored} * grid_tile_minimum);
+        grid_tiles = {grid_planes.data(), grid_references.data(), stored, grid_tile_minimum};
         const restir::PowerLightSampler power{light_table.view()};
         const auto node_of = [this](std::uint32_t id) -> const restir::LightBvhNode& {
             return light_nodes[id];
@@ -614,18 +464,19 @@ struct Renderer::Impl {
         // `pixel_tiles` holds each pixel's cell until the pass in pixel order below replaces it
         // with the cell's tile.
         constexpr std::uint32_t no_cell = ~0u; // a pixel without a surface
-        pixel_tiles.resize(surfaces.size());
+        pixel_tiles.resize(gbuffer.surfaces().size());
         arena.execute([&] {
             tbb::parallel_for(
-                tbb::blocked_range<std::uint32_t>(0u, static_cast<std::uint32_t>(surfaces.size())),
+                tbb::blocked_range<std::uint32_t>(
+                    0u, static_cast<std::uint32_t>(gbuffer.surfaces().size())),
                 [&](const tbb::blocked_range<std::uint32_t>& range) {
                     for (std::uint32_t i = range.begin(); i < range.end(); ++i) {
                         restir::Pcg32 rng = restir::make_pixel_rng(
                             i, frame_index, RenderStream::grid_jitter, settings.seed);
                         const float u = next_float(rng), v = next_float(rng), w = next_float(rng);
                         pixel_tiles[i] =
-                            surfaces[i].valid
-                                ? grid.jittered_cell_of(surfaces[i].position, {u, v, w})
+                            gbuffer.surfaces()[i].valid
+                                ? grid.jittered_cell_of(gbuffer.surfaces()[i].position, {u, v, w})
                                 : no_cell;
                     }
                 });
@@ -656,8 +507,8 @@ struct Renderer::Impl {
             const std::uint32_t tile = pixel_tiles[x + y * settings.width];
             return tile_reservoir(grid_tiles, grid_starts[tile], tile_entries[tile], s, rng);
         }
-        return tile_reservoir(tiles, tiles.tile_for(block_of(x, y), frame_index), tile_size, s,
-                              rng);
+        return tile_reservoir(tiles, tiles.tile_for(blocks.block_of(x, y), frame_index), tile_size,
+                              s, rng);
     }
 
     // Batch RIS over the `size` entries from tile `tile` of `from` on (Alg. 3 of Bitterli et al.
@@ -720,15 +571,6 @@ struct Renderer::Impl {
             [&](const restir::LightPointSample& x) { return point_target(x, s); });
     }
 
-    // f(y) W without visibility, for a reservoir whose sample is known to be visible.
-    glm::vec3 unshadowed(const Reservoir& reservoir, const GSurface& s) const {
-        if (!reservoir.has_sample() || !(reservoir.contribution_weight > 0.0f))
-            return glm::vec3(0.0f);
-        return s.albedo * inv_pi *
-               restir::unshadowed_irradiance(reservoir.sample, s.position, s.normal) *
-               reservoir.contribution_weight;
-    }
-
     // f(y) W with the shadow ray.
     glm::vec3 shade(const Reservoir& reservoir, const GSurface& s) const {
         return reservoir.has_sample() && point_visibility()(reservoir.sample, s)
@@ -762,8 +604,9 @@ struct Renderer::Impl {
     struct CameraReprojection {
         const Impl* im = nullptr;
         restir::PixelCoord operator()(restir::PixelCoord p) const {
-            const GSurface& s = im->surfaces[static_cast<std::size_t>(p.x) +
-                                             static_cast<std::size_t>(p.y) * im->settings.width];
+            const GSurface& s =
+                im->gbuffer.surfaces()[static_cast<std::size_t>(p.x) +
+                                       static_cast<std::size_t>(p.y) * im->settings.width];
             glm::vec2 q;
             if (!im->previous_camera.project(s.position, q))
                 return {-1, -1};
@@ -806,11 +649,11 @@ struct Renderer::Impl {
         const std::uint32_t w = settings.width, h = settings.height;
         Frame f{.params = di_frame_params(),
                 .frame_index = frame,
-                .surfaces = {surfaces.data(), w, h},
+                .surfaces = {gbuffer.surfaces().data(), w, h},
                 .reproject = {this},
                 .offsets = offsets};
         if (history && frame > 0) {
-            f.previous_surfaces = {previous_surfaces.data(), w, h};
+            f.previous_surfaces = {gbuffer.previous_surfaces().data(), w, h};
             if constexpr (Frame::loads_history)
                 f.history = {{stored_history.data(), w, h}, {this}};
             else
@@ -837,11 +680,11 @@ struct Renderer::Impl {
         for_each_block_by_tile(f.frame_index, [&](const PixelBlock& block) {
             for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
                 reservoirs[i] = Reservoir{};
-                if (!surfaces[i].valid)
+                if (!gbuffer.surfaces()[i].valid)
                     return;
                 restir::Pcg32 rng = restir::make_pixel_rng(
                     i, f.frame_index, restir::RngStream::initial, settings.seed);
-                reservoirs[i] = initial_reservoir(x, y, f.frame_index, surfaces[i], rng);
+                reservoirs[i] = initial_reservoir(x, y, f.frame_index, gbuffer.surfaces()[i], rng);
             });
             // The recipe's `initial` with deferred visibility: this packet.
             test_visibility(block, reservoir_at, [&](std::uint32_t i) {
@@ -966,7 +809,7 @@ struct Renderer::Impl {
                 return f.needs_visibility_test(reservoirs[i]);
             });
             for_each_pixel_of(block, [&](std::uint32_t, std::uint32_t, std::uint32_t i) {
-                const GSurface& s = surfaces[i];
+                const GSurface& s = gbuffer.surfaces()[i];
                 glm::vec3 color(0.0f);
                 if (s.valid) {
                     // The recipe's `finish` with deferred visibility: the packet above.
@@ -989,8 +832,8 @@ struct Renderer::Impl {
     // One ReSTIR frame: the G-buffer, then the recipe's stages, timed by phase.
     void restir_frame(std::uint32_t frame, bool history, Image& image, FrameTimings& t) {
         auto start = Clock::now();
-        std::swap(surfaces, previous_surfaces);
-        for_each_block([&](const PixelBlock& block) { trace_primary(block, frame); });
+        gbuffer.keep_as_previous();
+        gbuffer.trace(camera, frame);
         t.primary = milliseconds_since(start);
         start = Clock::now();
         fill_tiles(frame);
@@ -1059,21 +902,6 @@ struct Renderer::Impl {
         return reflected(s, lights.sample_point(ref.light_id, ref.uv)) / c.pmf;
     }
 
-    // The surface a ray travelling along `direction` found; emission only on an emitter's
-    // front side.
-    GSurface surface_at(const Hit& hit, glm::vec3 direction) const {
-        GSurface s;
-        const Material& m = scene.materials[scene.triangle_materials[hit.triangle]];
-        const bool front = glm::dot(hit.normal, direction) < 0.0f;
-        s.valid = true;
-        s.position = hit.position;
-        s.normal = front ? hit.normal : -hit.normal;
-        s.albedo = m.albedo;
-        s.emitted = front ? m.emission : glm::vec3(0.0f);
-        s.depth = hit.distance;
-        return s;
-    }
-
     // Radiance reflected at `start` towards the previous vertex (its own emission excluded).
     // With `direct` the emitters' direct light at `start` is included (NEE + MIS); without it,
     // the caller has estimated it, and only light that bounced at least once more is added.
@@ -1112,7 +940,7 @@ struct Renderer::Impl {
                     break;
                 throughput /= survival;
             }
-            s = surface_at(hit, direction);
+            s = surface_at(scene, hit, direction);
             direct = true;
         }
         return radiance;
@@ -1172,7 +1000,7 @@ struct Renderer::Impl {
         for (std::uint32_t sample = 0; sample < settings.spp; ++sample) {
             const std::uint32_t index = frame * settings.spp + sample;
             auto start = Clock::now();
-            for_each_block([&](const PixelBlock& block) { trace_primary(block, index); });
+            gbuffer.trace(camera, index);
             t.primary += milliseconds_since(start);
             if (settings.method == Method::ris) {
                 start = Clock::now();
@@ -1206,7 +1034,7 @@ struct Renderer::Impl {
             rng = restir::make_pixel_rng(i, index, RenderStream::independent, settings.seed);
             Reservoir& reservoir = picked[local(i)];
             reservoir = Reservoir{};
-            const GSurface& s = surfaces[i];
+            const GSurface& s = gbuffer.surfaces()[i];
             if (!s.valid || !light_sample)
                 return;
             reservoir = settings.method == Method::ris ? initial_reservoir(x, y, index, s, rng)
@@ -1215,7 +1043,7 @@ struct Renderer::Impl {
         if (light_sample)
             test_visibility(block, [&](std::uint32_t i) -> Reservoir& { return picked[local(i)]; });
         for_each_pixel_of(block, [&](std::uint32_t, std::uint32_t, std::uint32_t i) {
-            const GSurface& s = surfaces[i];
+            const GSurface& s = gbuffer.surfaces()[i];
             if (s.valid)
                 frame_image.pixels[i] += independent_radiance(s, picked[local(i)], rngs[local(i)]) /
                                          static_cast<float>(settings.spp);
@@ -1286,7 +1114,8 @@ const std::vector<restir::Vpl>& Renderer::vpls() const { return impl_->vpls; }
 std::uint32_t Renderer::emitter_count() const { return impl_->emitters.light_count(); }
 
 std::size_t Renderer::surface_pixel_count() const {
-    return static_cast<std::size_t>(std::count_if(impl_->surfaces.begin(), impl_->surfaces.end(),
+    return static_cast<std::size_t>(std::count_if(impl_->gbuffer.surfaces().begin(),
+                                                  impl_->gbuffer.surfaces().end(),
                                                   [](const GSurface& s) { return s.valid; }));
 }
 
