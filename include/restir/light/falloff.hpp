@@ -57,4 +57,28 @@ RESTIR_HOST_DEVICE inline float evaluate_falloff(FalloffKind kind, float distanc
     return 1.0f / (distance * distance);
 }
 
+// --- Names of version 0.1, kept until at least 0.3 -------------------------------------------
+// light/attenuation.hpp became light/falloff.hpp and "attenuation" became "falloff"
+// everywhere: the enum, its evaluation, Yuksel's function and the divisor's bound.
+
+/// The kind of falloff; renamed `FalloffKind` (its enumerators are unchanged).
+using Attenuation [[deprecated("use restir::FalloffKind")]] = FalloffKind;
+
+/// Renamed `smallest_falloff_divisor`.
+[[deprecated(
+    "use restir::smallest_falloff_divisor")]] inline constexpr float smallest_attenuation_divisor =
+    smallest_falloff_divisor;
+
+/// Renamed `yuksel_falloff`.
+[[deprecated("use restir::yuksel_falloff")]] RESTIR_HOST_DEVICE inline float
+yuksel_attenuation(float distance, float radius) noexcept {
+    return yuksel_falloff(distance, radius);
+}
+
+/// Renamed `evaluate_falloff`.
+[[deprecated("use restir::evaluate_falloff")]] RESTIR_HOST_DEVICE inline float
+attenuate(FalloffKind kind, float distance, float parameter) noexcept {
+    return evaluate_falloff(kind, distance, parameter);
+}
+
 } // namespace restir
