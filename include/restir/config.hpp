@@ -3,7 +3,7 @@
 #pragma once
 
 #define RESTIR_VERSION_MAJOR 0
-#define RESTIR_VERSION_MINOR 1
+#define RESTIR_VERSION_MINOR 2
 #define RESTIR_VERSION_PATCH 0
 /// Single comparable number: major * 10000 + minor * 100 + patch.
 #define RESTIR_VERSION                                                                             \
