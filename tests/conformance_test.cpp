@@ -169,8 +169,12 @@ TEST(Conformance, ReusePassesInstantiateWithStubTypes) {
     EXPECT_TRUE(out.is_well_formed());
     const stub::LightSet lights;
     const stub::RayQuery query;
-    const restir::LightVisibility<stub::LightSet, stub::RayQuery> light_visibility{&lights, &query};
+    const restir::LightVisibility<stub::LightSet, stub::RayQuery> light_visibility{&lights, &query,
+                                                                                   1e-3f};
     EXPECT_TRUE(light_visibility(restir::LightSampleRef{}, surfaces[0]));
+    const auto scaled =
+        restir::LightVisibility<stub::LightSet, stub::RayQuery>::for_scene(lights, query, 550.0f);
+    EXPECT_FLOAT_EQ(scaled.ray_offset, 0.055f);
 }
 
 TEST(Conformance, PhotonShooterInstantiatesWithStubTypes) {

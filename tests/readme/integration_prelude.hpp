@@ -43,6 +43,9 @@ struct MyScene {
     }
 };
 inline const MyScene scene{};
+/// The diagonal of the scene's bounding box (floor [-1, 1]^2, lights up to z = 2), the scale of
+/// its shadow-ray offsets.
+inline constexpr float scene_extent = 3.5f;
 
 /// The G-buffer pass: a camera looking straight down at the floor [-1, 1]^2 (the box's top
 /// face where it covers the floor); one pixel column of sky on the right.

@@ -40,6 +40,7 @@ struct Frame {
     stub::ClosestHit photon_rays;
     stub::Scatter my_bsdf;
     float radius = 0.1f;
+    float scene_extent = 550.0f; ///< The diagonal of the scene's bounding box.
 
     /// The README's snippets, in order, as one function body.
     void snippets();

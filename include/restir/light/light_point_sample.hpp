@@ -121,10 +121,14 @@ RESTIR_HOST_DEVICE inline glm::vec3 unshadowed_irradiance(const LightPointSample
 /// `LightVisibility` tests, from the surface to the sample's point, both ends pushed
 /// `ray_offset` off their surfaces towards each other (a VPL's end too; an isotropic point's
 /// end stays). Holds a pointer: the query must outlive it.
+///
+/// The ray offset has no default, as `LightVisibility`'s: a world-space length that must be
+/// scaled to the scene (1e-4 of the diagonal of its bounding box is the usual choice), positive
+/// and finite. Always state it: `{&query, offset}` (left out, it would be 0).
 template <RayQuery Query>
 struct LightPointVisibility {
     const Query* query = nullptr;
-    float ray_offset = 1e-4f; ///< World-space offset; scale it with the scene.
+    float ray_offset; ///< World-space, > 0: 1e-4 of the scene's extent, say.
 
     /// The segment that `operator()` tests, for renderers that trace many at once (packets).
     template <Surface S>

@@ -30,11 +30,35 @@ concept VisibilityFunction = requires(const F& visible, const Sample& sample,
 /// `VisibilityFunction` for `LightSampleRef` samples: evaluates the reference with the light
 /// set and asks the ray query whether `shadow_segment` between the two points is blocked.
 /// Holds pointers: the light set and the query must outlive it.
+///
+/// The ray offset has no default: it is a world-space length, and no single value suits both
+/// a scene one unit wide and one of hundreds (1e-4 in a scene 550 units wide leaves the ends
+/// of the segment inside the surfaces' rounding error, so surfaces shadow themselves: acne,
+/// and a darker image). State it, `{&lights, &query, offset}`, or take the usual scale,
+/// `for_scene(lights, query, scene_extent)`: 1e-4 of the scene's extent (the diagonal of its
+/// bounding box). It must be positive and finite (a debug build checks).
 template <LightSet Lights, RayQuery Query>
 struct LightVisibility {
-    const Lights* lights = nullptr;
-    const Query* query = nullptr;
-    float ray_offset = 1e-4f; ///< World-space offset; scale it with the scene.
+    /// The offset `for_scene` takes, relative to the scene's extent.
+    static constexpr float relative_ray_offset = 1e-4f;
+
+    const Lights* lights;
+    const Query* query;
+    /// World-space, > 0: both ends of a shadow segment leave their surfaces by it.
+    float ray_offset;
+
+    RESTIR_HOST_DEVICE constexpr LightVisibility(const Lights* light_set, const Query* ray_query,
+                                                 float offset) noexcept
+        : lights(light_set), query(ray_query), ray_offset(offset) {
+        RESTIR_ASSERT(offset > 0.0f && is_finite(offset));
+    }
+
+    /// The offset scaled to the scene: `relative_ray_offset` times `scene_extent` (the
+    /// diagonal of the scene's bounding box, in world units).
+    RESTIR_HOST_DEVICE static constexpr LightVisibility
+    for_scene(const Lights& light_set, const Query& ray_query, float scene_extent) noexcept {
+        return {&light_set, &ray_query, relative_ray_offset * scene_extent};
+    }
 
     template <Surface S>
     RESTIR_HOST_DEVICE bool operator()(const LightSampleRef& sample, const S& surface) const {
