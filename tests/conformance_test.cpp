@@ -155,14 +155,16 @@ TEST(Conformance, ReusePassesInstantiateWithStubTypes) {
     spatial.radius = 1.0f;
     const restir::TemporalParams temporal = restir::default_temporal_params();
 
+    const restir::ReuseParams reuse{};
     auto out = restir::temporal_resample({0, 0}, reservoirs[0], surfaces[0], view, surface_view,
-                                         stub::Reprojection{}, temporal, bridge, rng);
+                                         stub::Reprojection{}, temporal, reuse, 0u, bridge, rng);
     EXPECT_EQ(out.candidate_count, 2u);
-    out = restir::spatial_resample({0, 0}, view, surface_view, spatial, offsets, bridge, rng);
+    out = restir::spatial_resample({0, 0}, view, surface_view, spatial, reuse, bridge, rng,
+                                   offsets);
     EXPECT_GE(out.candidate_count, 1u);
     out = restir::spatiotemporal_resample({1, 1}, reservoirs[3], surfaces[3], view, surface_view,
-                                          stub::Reprojection{}, temporal, spatial.search(), offsets,
-                                          bridge, rng);
+                                          stub::Reprojection{}, temporal, spatial, reuse, 0u,
+                                          bridge, rng, offsets);
     EXPECT_GE(out.candidate_count, 2u);
     EXPECT_TRUE(restir::apply_visibility(out, surfaces[0], stub::Visibility{}));
     out = restir::boiling_filter({0, 0}, view, restir::default_boiling_filter_params());
@@ -175,6 +177,45 @@ TEST(Conformance, ReusePassesInstantiateWithStubTypes) {
     const auto scaled =
         restir::LightVisibility<stub::LightSet, stub::RayQuery>::for_scene(lights, query, 550.0f);
     EXPECT_FLOAT_EQ(scaled.ray_offset, 0.055f);
+}
+
+// The frame recipe per pixel and per tile with batched rays, every stage and mode compiled.
+TEST(Conformance, FrameRecipeInstantiatesWithStubTypes) {
+    const std::vector<stub::Surface> surfaces(4, stub::Surface{0.5f});
+    std::vector<restir::Reservoir<stub::Sample>> history(4), out(4), scratch(4);
+    restir::DiFrame<stub::Sample, stub::Surface, stub::Reprojection> frame{
+        .surfaces = {surfaces.data(), 2u, 2u},
+        .previous_surfaces = {surfaces.data(), 2u, 2u},
+        .history = {history.data(), 2u, 2u}};
+    frame.params.spatial.radius = 1.0f;
+    frame.params.boiling_filter = true;
+    const restir::DiBuffers<stub::Sample> buffers{{out.data(), 2u, 2u}, {scratch.data(), 2u, 2u}};
+    const auto initial = [](restir::PixelCoord, const stub::Surface& s, stub::Rng& rng) {
+        restir::Reservoir<stub::Sample> r;
+        r.stream(stub::Sample{1u}, 1.0f, stub::Target{}(stub::Sample{1u}, s), next_float(rng));
+        r.finalize();
+        return r;
+    };
+    const auto rng_for = [](restir::PixelCoord, std::uint32_t) { return stub::Rng{}; };
+    std::uint32_t shaded = 0u;
+    const auto shade = [&](restir::PixelCoord, const restir::Reservoir<stub::Sample>&, bool) {
+        ++shaded;
+    };
+    const auto for_each_pixel = [](const auto& body) {
+        for (std::int32_t i = 0; i < 4; ++i)
+            body(restir::PixelCoord{i % 2, i / 2});
+    };
+    restir::run_di_frame(frame, buffers, for_each_pixel, initial,
+                         restir::ReuseBridge{stub::Target{}, stub::Visibility{}}, rng_for, shade);
+    EXPECT_EQ(shaded, 4u);
+    EXPECT_GT(out[0].candidate_count, 1u) << "the history took part";
+    const auto one_tile = [](const restir::DiStep&, const auto& body) {
+        body(restir::PixelTile{{0, 0}, {2, 2}});
+    };
+    restir::run_di_frame(
+        frame, buffers, one_tile, initial,
+        restir::ReuseBridge{stub::Target{}, restir::OneByOne<stub::Visibility>{}}, rng_for, shade);
+    EXPECT_EQ(shaded, 8u);
 }
 
 TEST(Conformance, PhotonShooterInstantiatesWithStubTypes) {

@@ -1,7 +1,9 @@
-// The frame recipe (reuse/di_frame.hpp): `run_di_frame` against the passes called by hand in
-// the documented order, the per-pixel stages' visibility bookkeeping, frame 0 and camera cuts,
-// and unbiasedness of whole frames on the synthetic image (synthetic_image.hpp).
+// The frame recipe (reuse/di_frame.hpp, reuse/di_frame_tiles.hpp): `run_di_frame` per pixel
+// and per tile with batched rays against the passes called by hand in the documented order, the
+// steps and their buffers, the visibility rules, frame 0 and camera cuts, and unbiasedness of
+// whole frames on the synthetic image (synthetic_image.hpp).
 #include <restir/reuse/di_frame.hpp>
+#include <restir/reuse/di_frame_tiles.hpp>
 
 #include <restir/restir.hpp>
 
@@ -10,7 +12,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -35,6 +39,23 @@ struct CountingVisibility {
         return Visibility{}(x, p);
     }
 };
+
+// Batched visibility that counts its batches and questions.
+struct CountingBatches {
+    std::uint32_t* rays = nullptr;
+    std::uint32_t* batches = nullptr;
+    void trace(std::span<const restir::VisibilityQuery<LightId, Patch>> queries,
+               std::span<bool> visible) const {
+        EXPECT_EQ(queries.size(), visible.size());
+        EXPECT_GT(queries.size(), 0u);
+        ++*batches;
+        for (std::size_t i = 0; i < queries.size(); ++i) {
+            ++*rays;
+            visible[i] = Visibility{}(*queries[i].sample, *queries[i].surface);
+        }
+    }
+};
+static_assert(restir::BatchVisibility<CountingBatches, LightId, Patch>);
 
 Reservoir<LightId> draw_initial(const Patch& surface, restir::Pcg32& rng) {
     const restir::UniformLightSampler sampler{light_count};
@@ -80,14 +101,16 @@ struct DecodingSurfaces {
 };
 static_assert(restir::SurfaceDecoder<DecodingSurfaces, Patch>);
 
-// An application's frames through `run_di_frame`: keeps the G-buffers and the history.
+// An application's frames through `run_di_frame`: keeps the G-buffers and the history. With
+// `tile_side` > 0 per tile of that side, its rays in batches; otherwise per pixel.
 template <class History = restir::ImageView<const Reservoir<LightId>>,
           class Surfaces = restir::ImageView<const Patch>>
 class RecipeRendererOf {
 public:
     using Frame = restir::DiFrame<LightId, Patch, Reproject, History, Surfaces>;
-    explicit RecipeRendererOf(const restir::DiFrameParams& params, std::uint64_t seed = 0u)
-        : params_(params), seed_(seed) {}
+    explicit RecipeRendererOf(const restir::DiFrameParams& params, std::uint64_t seed = 0u,
+                              std::int32_t tile_side = 0)
+        : params_(params), seed_(seed), tile_side_(tile_side) {}
 
     // Renders frame `frame`; `cut`: a camera cut (no history).
     const Image& render(std::uint32_t frame, bool cut = false) {
@@ -112,20 +135,39 @@ public:
         const auto initial = [](PixelCoord, const Patch& s, restir::Pcg32& rng) {
             return draw_initial(s, rng);
         };
-        const restir::ReuseBridge bridge{Target{}, CountingVisibility{&rays}};
-        restir::run_di_frame(
-            f, restir::ImageView<Reservoir<LightId>>{out_.data(), width, height},
-            restir::ImageView<Reservoir<LightId>>{scratch_.data(), width, height}, for_each_pixel,
-            initial, bridge,
-            [&](PixelCoord p, std::uint32_t stream) { return rng_for(p, frame, stream, seed_); });
+        const restir::DiBuffers<LightId> buffers{{out_.data(), width, height},
+                                                 {scratch_.data(), width, height}};
+        const auto rngs = [&](PixelCoord p, std::uint32_t stream) {
+            return rng_for(p, frame, stream, seed_);
+        };
+        constexpr bool tiles = std::is_same_v<Surfaces, restir::ImageView<const Patch>>;
+        if (!tiles || tile_side_ == 0) {
+            restir::run_di_frame(f, buffers, for_each_pixel, initial,
+                                 restir::ReuseBridge{Target{}, CountingVisibility{&rays}}, rngs);
+            return out_;
+        }
+        // Tiles in an order that is not the pixels' (last row of tiles first).
+        const auto for_each_tile = [this](const restir::DiStep&, const auto& body) {
+            const auto w = static_cast<std::int32_t>(width), h = static_cast<std::int32_t>(height);
+            for (std::int32_t y = (h - 1) / tile_side_ * tile_side_; y >= 0; y -= tile_side_)
+                for (std::int32_t x = 0; x < w; x += tile_side_)
+                    body(restir::PixelTile{
+                        {x, y}, {std::min(w, x + tile_side_), std::min(h, y + tile_side_)}});
+        };
+        if constexpr (tiles) // the tiles' questions point into an array of surfaces
+            restir::run_di_frame(f, buffers, for_each_tile, initial,
+                                 restir::ReuseBridge{Target{}, CountingBatches{&rays, &batches}},
+                                 rngs);
         return out_;
     }
     const std::vector<Patch>& surfaces() const { return surfaces_; }
     std::uint32_t rays = 0;
+    std::uint32_t batches = 0;
 
 private:
     restir::DiFrameParams params_;
     std::uint64_t seed_;
+    std::int32_t tile_side_;
     std::vector<Patch> surfaces_ = std::vector<Patch>(pixel_count);
     std::vector<Patch> previous_surfaces_ = std::vector<Patch>(pixel_count);
     Image out_ = Image(pixel_count), history_ = Image(pixel_count), scratch_ = Image(pixel_count);
@@ -144,10 +186,13 @@ public:
         for (std::uint32_t i = 0; i < pixel_count; ++i)
             surfaces[i] = patch_seen(pixel_of(i), frame);
         const restir::ImageView<const Patch> gbuffer{surfaces.data(), width, height};
-        restir::ReuseParams reuse = p_.reuse;
-        reuse.inputs_visibility_tested = reuse.visibility_reuse;
-        const bool retest = reuse.visibility_reuse && reuse.trace_mis_visibility &&
-                            reuse.bias_correction != BiasCorrection::none;
+        // Every input of a pass is tested where it lives, so traced weights need no ray for it.
+        const restir::ReuseVisibility visibility =
+            p_.visibility == restir::ReuseVisibility::traced
+                ? restir::ReuseVisibility::traced_inputs_tested
+                : p_.visibility;
+        const bool visibility_reuse = restir::carries_visibility(visibility);
+        const bool retest = restir::traces_mis_rays(visibility);
         const bool history = p_.temporal_reuse && frame > 0 && !cut;
         Image current(pixel_count);
         for (std::uint32_t i = 0; i < pixel_count; ++i) {
@@ -155,24 +200,22 @@ public:
                 continue;
             restir::Pcg32 rng = rng_for(pixel_of(i), frame, RngStream::initial, 0u);
             current[i] = draw_initial(surfaces[i], rng);
-            if (reuse.visibility_reuse)
+            if (visibility_reuse)
                 restir::apply_visibility(current[i], surfaces[i], Visibility{});
             if (!history)
                 continue;
-            restir::TemporalParams temporal = p_.temporal;
-            temporal.reuse = reuse;
-            temporal.frame_index = frame;
             restir::Pcg32 temporal_rng = rng_for(pixel_of(i), frame, RngStream::temporal, 0u);
+            const LightId before = current[i].sample;
             current[i] = restir::temporal_resample(
                 pixel_of(i), current[i], surfaces[i],
                 restir::ImageView<const Reservoir<LightId>>{history_.data(), width, height},
                 restir::ImageView<const Patch>{previous_surfaces_.data(), width, height},
-                Reproject{}, temporal, bridge, temporal_rng);
-            if (retest && p_.spatial_passes > 0)
+                Reproject{}, p_.temporal, {p_.temporal_bias_correction, visibility}, frame, bridge,
+                temporal_rng);
+            if (retest && p_.spatial_passes > 0 && !(current[i].sample == before))
                 restir::apply_visibility(current[i], surfaces[i], Visibility{});
         }
-        restir::SpatialParams spatial = p_.spatial;
-        spatial.reuse = reuse;
+        const restir::ReuseParams spatial_reuse{p_.spatial_bias_correction, visibility};
         for (std::uint32_t pass = 0; pass < p_.spatial_passes; ++pass) {
             Image next(pixel_count);
             for (std::uint32_t i = 0; i < pixel_count; ++i) {
@@ -180,7 +223,7 @@ public:
                 next[i] = restir::spatial_resample(
                     pixel_of(i),
                     restir::ImageView<const Reservoir<LightId>>{current.data(), width, height},
-                    gbuffer, spatial, offsets_, bridge, rng);
+                    gbuffer, p_.spatial, spatial_reuse, bridge, rng, offsets_);
                 if (retest && pass + 1 < p_.spatial_passes && surfaces[i].valid)
                     restir::apply_visibility(next[i], surfaces[i], Visibility{});
             }
@@ -196,7 +239,7 @@ public:
             current = next;
         }
         for (std::uint32_t i = 0; i < pixel_count; ++i)
-            if (reuse.visibility_reuse && surfaces[i].valid)
+            if (visibility_reuse && surfaces[i].valid)
                 restir::apply_visibility(current[i], surfaces[i], Visibility{});
         history_ = current;
         previous_surfaces_ = surfaces;
@@ -205,7 +248,7 @@ public:
 
 private:
     restir::DiFrameParams p_;
-    restir::NeighbourOffsets offsets_ = restir::make_neighbour_offsets();
+    const restir::NeighbourOffsets& offsets_ = restir::default_neighbour_offsets();
     Image history_ = Image(pixel_count);
     std::vector<Patch> previous_surfaces_ = std::vector<Patch>(pixel_count);
 };
@@ -241,14 +284,18 @@ std::vector<Variant> variants() {
     for (BiasCorrection mode :
          {BiasCorrection::none, BiasCorrection::one_over_z, BiasCorrection::balance_heuristic}) {
         restir::DiFrameParams q = p;
-        q.reuse.bias_correction = mode;
+        q.temporal_bias_correction = mode;
+        q.spatial_bias_correction = mode;
         v.push_back({"bias correction " + std::to_string(static_cast<int>(mode)), q});
     }
     restir::DiFrameParams q = p;
-    q.reuse.visibility_reuse = false;
+    q.spatial_bias_correction = BiasCorrection::balance_heuristic;
+    v.push_back({"pairwise temporal, balance heuristic spatial", q});
+    q = p;
+    q.visibility = restir::ReuseVisibility::none;
     v.push_back({"no visibility reuse", q});
     q = p;
-    q.reuse.trace_mis_visibility = false;
+    q.visibility = restir::ReuseVisibility::assumed;
     v.push_back({"ray-free MIS", q});
     q = p;
     q.temporal_reuse = false;
@@ -287,19 +334,98 @@ TEST(DiFrame, LoadedHistoryAndDecodedSurfacesEqualTheViewedOnes) {
     }
 }
 
+// The tiles give the frames that the pixels give, whatever the tiles' order, with every ray in
+// a batch of a tile's stage (or alone, where a mode asks about a sample it did not announce).
+TEST(DiFrame, TilesWithBatchedRaysEqualPixels) {
+    for (const Variant& variant : variants()) {
+        for (std::int32_t side : {1, 3, 8}) {
+            RecipeRenderer pixels(variant.params);
+            RecipeRenderer tiles(variant.params, 0u, side);
+            RecipeRendererOf<LoadingHistory> loaded_tiles(variant.params, 0u, side);
+            for (std::uint32_t frame = 0; frame < 6; ++frame) {
+                const bool cut = frame == 3;
+                const Image& expected = pixels.render(frame, cut);
+                const std::string name =
+                    variant.name + ", tiles of " + std::to_string(side) + ", frame " + std::to_string(frame);
+                expect_same(tiles.render(frame, cut), expected, name);
+                expect_same(loaded_tiles.render(frame, cut), expected, name + ", loaded history");
+            }
+            EXPECT_EQ(tiles.rays, pixels.rays) << variant.name << ": the same questions";
+            if (side > 1) {
+                EXPECT_LT(tiles.batches, tiles.rays) << variant.name << ": rays come in batches";
+            }
+        }
+    }
+}
+
 TEST(DiFrame, WithoutHistoryTemporalReturnsItsInput) {
     const Frame no_history{};
     EXPECT_FALSE(no_history.has_history());
+    EXPECT_EQ(no_history.step_count(), 3u) << "initial, spatial, finish";
     Reservoir<LightId> current;
     current.stream({3u}, 2.0f, 1.0f, 0.5f);
     current.finalize();
     restir::Pcg32 rng;
     const restir::ReuseBridge bridge{Target{}, Visibility{}};
-    const Reservoir<LightId> result = no_history.temporal({0, 0}, current, bridge, rng);
+    const Reservoir<LightId> result =
+        no_history.temporal({0, 0}, current, no_history.temporal_input({0, 0}, bridge), bridge, rng);
     EXPECT_EQ(result.sample.id, 3u);
     EXPECT_EQ(result.contribution_weight, current.contribution_weight);
     EXPECT_EQ(result.candidate_count, current.candidate_count);
     EXPECT_EQ(rng.next_uint(), restir::Pcg32{}.next_uint()) << "no random number drawn";
+}
+
+// The steps: stages in order, writers alternating so that the last writes `out` (buffer 0),
+// each reading what the one before wrote, `finish` in place on `out`; retests only before a
+// spatial pass whose MIS weights trace rays.
+TEST(DiFrame, StepsPingPongIntoOutAndRetestOnlyBeforeTracedPasses) {
+    const Reservoir<LightId> history[1]{};
+    for (std::uint32_t passes : {0u, 1u, 2u, 3u})
+        for (bool with_history : {false, true})
+            for (bool boiling : {false, true})
+                for (restir::ReuseVisibility v :
+                     {restir::ReuseVisibility::none, restir::ReuseVisibility::assumed,
+                      restir::ReuseVisibility::traced}) {
+                    Frame f{};
+                    f.params.spatial_passes = passes;
+                    f.params.boiling_filter = boiling;
+                    f.params.visibility = v;
+                    const Patch previous[1]{};
+                    if (with_history) {
+                        f.history = {history, 1u, 1u};
+                        f.previous_surfaces = {previous, 1u, 1u};
+                    }
+                    const std::string name = std::to_string(passes) + " passes, history " +
+                                             std::to_string(with_history) + ", boiling " +
+                                             std::to_string(boiling) + ", visibility " +
+                                             std::to_string(static_cast<int>(v));
+                    const std::uint32_t count = f.step_count();
+                    ASSERT_EQ(count, 2u + (with_history ? 1u : 0u) + passes + (boiling ? 1u : 0u)) << name;
+                    std::vector<restir::DiStage> stages;
+                    for (std::uint32_t i = 0; i < count; ++i) {
+                        const restir::DiStep s = f.step(i);
+                        stages.push_back(s.stage);
+                        if (i > 0u && i + 1u < count) {
+                            EXPECT_EQ(s.input, f.step(i - 1u).output) << name << ", step " << i;
+                        }
+                        const bool before_spatial =
+                            i + 1u < count && f.step(i + 1u).stage == restir::DiStage::spatial;
+                        EXPECT_EQ(s.retest, i > 0u && before_spatial &&
+                                                v == restir::ReuseVisibility::traced)
+                            << name << ", step " << i;
+                    }
+                    EXPECT_EQ(f.step(count - 2u).output, 0u) << name << ": the last writer writes out";
+                    EXPECT_EQ(f.step(count - 1u).output, 0u) << name;
+                    std::vector<restir::DiStage> expected{restir::DiStage::initial};
+                    if (with_history)
+                        expected.push_back(restir::DiStage::temporal);
+                    for (std::uint32_t p = 0; p < passes; ++p)
+                        expected.push_back(restir::DiStage::spatial);
+                    if (boiling)
+                        expected.push_back(restir::DiStage::boiling);
+                    expected.push_back(restir::DiStage::finish);
+                    EXPECT_EQ(stages, expected) << name;
+                }
 }
 
 TEST(DiFrame, VisibilityIsRetestedOnlyForSamplesAPassBroughtIn) {
@@ -309,49 +435,14 @@ TEST(DiFrame, VisibilityIsRetestedOnlyForSamplesAPassBroughtIn) {
     kept.finalize();
     moved.stream({2u}, 1.0f, 1.0f, 0.5f);
     moved.finalize();
-    EXPECT_FALSE(f.needs_visibility_test(kept, kept));
-    EXPECT_TRUE(f.needs_visibility_test(moved, kept));
-    EXPECT_TRUE(f.needs_visibility_test(moved, empty));
-    EXPECT_FALSE(f.needs_visibility_test(empty, kept));
-    EXPECT_TRUE(f.needs_visibility_test(kept));
-    EXPECT_FALSE(f.needs_visibility_test(empty));
-    // No retest when the next pass's MIS weights trace no rays, nor any test without
-    // visibility reuse.
-    for (int change = 0; change < 3; ++change) {
-        Frame g{};
-        if (change == 0)
-            g.params.reuse.bias_correction = BiasCorrection::none;
-        if (change == 1)
-            g.params.reuse.trace_mis_visibility = false;
-        if (change == 2)
-            g.params.reuse.visibility_reuse = false;
-        EXPECT_FALSE(g.needs_visibility_test(moved, kept)) << "change " << change;
-        EXPECT_EQ(g.needs_visibility_test(moved), change != 2) << "change " << change;
-    }
-}
-
-TEST(DiFrame, DeferredVisibilityLeavesTheStageRaysToTheCaller) {
-    std::uint32_t rays = 0;
-    const CountingVisibility counting{&rays};
-    std::vector<Patch> surfaces(pixel_count);
-    for (std::uint32_t i = 0; i < pixel_count; ++i)
-        surfaces[i] = patch_seen(pixel_of(i), 0u);
-    Frame f{.surfaces = {surfaces.data(), width, height}};
-    f.params.deferred_visibility = true;
-    std::uint32_t occluded = 0;
-    for (std::uint32_t i = 0; i < pixel_count; ++i) {
-        if (!surfaces[i].valid)
-            continue;
-        restir::Pcg32 rng = rng_for(pixel_of(i), 0u, RngStream::initial, 0u);
-        const Reservoir<LightId> candidates = draw_initial(surfaces[i], rng);
-        const Reservoir<LightId> initial = f.initial(pixel_of(i), candidates, counting);
-        const Reservoir<LightId> finished = f.finish(pixel_of(i), candidates, counting);
-        EXPECT_EQ(initial.contribution_weight, candidates.contribution_weight);
-        EXPECT_EQ(finished.contribution_weight, candidates.contribution_weight);
-        occluded += candidates.has_sample() && !Visibility{}(candidates.sample, surfaces[i]);
-    }
-    EXPECT_EQ(rays, 0u);
-    EXPECT_GT(occluded, 0u) << "the check above needs occluded samples";
+    EXPECT_FALSE(f.retests(kept, kept));
+    EXPECT_TRUE(f.retests(moved, kept));
+    EXPECT_TRUE(f.retests(moved, empty));
+    EXPECT_FALSE(f.retests(empty, kept));
+    EXPECT_TRUE(f.tests(kept));
+    EXPECT_FALSE(f.tests(empty));
+    f.params.visibility = restir::ReuseVisibility::none;
+    EXPECT_FALSE(f.tests(kept)) << "no visibility reuse: reservoirs are never tested";
 }
 
 TEST(DiFrame, EveryStageRayIsOneTheRecipeNeeds) {
@@ -375,7 +466,8 @@ class UnbiasedRecipe : public ::testing::TestWithParam<BiasCorrection> {};
 
 TEST_P(UnbiasedRecipe, MeanMatchesTruthAtEveryPixel) {
     restir::DiFrameParams p = restir::default_di_frame_params();
-    p.reuse.bias_correction = GetParam();
+    p.temporal_bias_correction = GetParam();
+    p.spatial_bias_correction = GetParam();
     p.spatial.radius = 2.0f;
     p.spatial_passes = 2u;
     constexpr std::uint32_t frames = 12u, trials = 3000u, cut = 6u;

@@ -126,30 +126,30 @@ TEST(TemporalReuse, FallsBackToTheCurrentReservoirWithoutUsableHistory) {
                     {Point{}, Point{tilted_normal(60.0f)}, Point{}}};
     const auto to = [](std::int32_t x) { return [x](PixelCoord) { return PixelCoord{x, 0}; }; };
     for (BiasCorrection mode : all_modes) {
-        restir::TemporalParams params = restir::default_temporal_params();
-        params.reuse.bias_correction = mode;
+        const restir::TemporalParams params = restir::default_temporal_params();
+        const restir::ReuseParams reuse{mode};
         restir::Pcg32 rng;
         // Disocclusion: the reprojection names no pixel of the previous image.
         expect_same(restir::temporal_resample({0, 0}, current, Point{}, history.reservoir_view(),
-                                              history.surface_view(), to(-1), params, bridge, rng),
+                                              history.surface_view(), to(-1), params, reuse, 0u, bridge, rng),
                     current);
         // A dissimilar surface (normals 60 degrees apart).
         expect_same(restir::temporal_resample({0, 0}, current, Point{}, history.reservoir_view(),
-                                              history.surface_view(), to(1), params, bridge, rng),
+                                              history.surface_view(), to(1), params, reuse, 0u, bridge, rng),
                     current);
         // A history holding NaN and infinity.
         expect_same(restir::temporal_resample({0, 0}, current, Point{}, history.reservoir_view(),
-                                              history.surface_view(), to(2), params, bridge, rng),
+                                              history.surface_view(), to(2), params, reuse, 0u, bridge, rng),
                     current);
         // An invalid receiver keeps its reservoir.
         expect_same(restir::temporal_resample({0, 0}, current, Point{{0, 0, 1}, 1.0f, false},
                                               history.reservoir_view(), history.surface_view(),
-                                              to(0), params, bridge, rng),
+                                              to(0), params, reuse, 0u, bridge, rng),
                     current);
         // Usable history is combined: M adds up.
         const Reservoir<LightId> combined =
             restir::temporal_resample({0, 0}, current, Point{}, history.reservoir_view(),
-                                      history.surface_view(), to(0), params, bridge, rng);
+                                      history.surface_view(), to(0), params, reuse, 0u, bridge, rng);
         EXPECT_EQ(combined.candidate_count, 12u);
         EXPECT_TRUE(combined.is_well_formed());
     }
@@ -163,27 +163,28 @@ TEST(TemporalReuse, CapsTheHistoryAtAMultipleOfTheCurrentCount) {
     restir::Pcg32 rng;
     const auto same_pixel = [](PixelCoord p) { return p; };
     EXPECT_EQ(restir::temporal_resample({0, 0}, current, Point{}, history.reservoir_view(),
-                                        history.surface_view(), same_pixel, params, bridge, rng)
+                                        history.surface_view(), same_pixel, params, {}, 0u, bridge,
+                                        rng)
                   .candidate_count,
               4u + 20u * 4u);
     params.history_cap_multiplier = 0u; // no cap
     EXPECT_EQ(restir::temporal_resample({0, 0}, current, Point{}, history.reservoir_view(),
-                                        history.surface_view(), same_pixel, params, bridge, rng)
+                                        history.surface_view(), same_pixel, params, {}, 0u, bridge,
+                                        rng)
                   .candidate_count,
               1004u);
 }
 
 TEST(TemporalReuse, PermutationSamplingPermutesTwoByTwoBlocks) {
     restir::TemporalParams params = restir::default_temporal_params();
-    EXPECT_EQ(restir::history_pixel({5, 8}, params).x, 5);
+    EXPECT_EQ(restir::history_pixel({5, 8}, params, 3u).x, 5);
     params.permutation_sampling = true;
     bool moved = false;
     for (std::uint32_t frame = 0; frame < 8u; ++frame) {
-        params.frame_index = frame;
         std::set<std::pair<int, int>> images;
         for (int y = 0; y < 4; ++y)
             for (int x = 0; x < 4; ++x) {
-                const PixelCoord p = restir::history_pixel({x, y}, params);
+                const PixelCoord p = restir::history_pixel({x, y}, params, frame);
                 EXPECT_EQ(p.x / 2, x / 2);
                 EXPECT_EQ(p.y / 2, y / 2);
                 images.insert({p.x, p.y});
@@ -200,11 +201,10 @@ TEST(TemporalReuse, PermutationBitsSetTheBlockSize) {
     params.permutation_bits = 2u; // 4 x 4 blocks
     std::set<std::pair<int, int>> offsets_seen;
     for (std::uint32_t frame = 0; frame < 64u; ++frame) {
-        params.frame_index = frame;
         std::set<std::pair<int, int>> images;
         for (int y = 0; y < 8; ++y)
             for (int x = 0; x < 8; ++x) {
-                const PixelCoord p = restir::history_pixel({x, y}, params);
+                const PixelCoord p = restir::history_pixel({x, y}, params, frame);
                 EXPECT_EQ(p.x / 4, x / 4);
                 EXPECT_EQ(p.y / 4, y / 4);
                 images.insert({p.x, p.y});
@@ -215,7 +215,7 @@ TEST(TemporalReuse, PermutationBitsSetTheBlockSize) {
     }
     // More bits than a coordinate can shift are clamped (15), not undefined behaviour.
     params.permutation_bits = 40u;
-    const PixelCoord far = restir::history_pixel({70000, 5}, params);
+    const PixelCoord far = restir::history_pixel({70000, 5}, params, 0u);
     EXPECT_EQ(far.x >> 15, 70000 >> 15);
     EXPECT_EQ(far.y >> 15, 0);
     params.permutation_bits = 2u;
@@ -346,12 +346,12 @@ TEST(SpatialReuse, IgnoresNonFiniteNeighboursAndInvalidReceivers) {
     const restir::ImageView<const Point> surface_view{surfaces.data(), 3u, 3u};
     for (BiasCorrection mode : all_modes) {
         restir::SpatialParams params = restir::default_spatial_params();
-        params.reuse.bias_correction = mode;
+        const restir::ReuseParams reuse{mode};
         params.neighbour_count = 8u;
         params.radius = 1.5f;
         restir::Pcg32 rng = restir::make_pixel_rng(4u, 0u, 0u);
         const Reservoir<LightId> out =
-            restir::spatial_resample({1, 1}, view, surface_view, params, offsets, bridge, rng);
+            restir::spatial_resample({1, 1}, view, surface_view, params, reuse, bridge, rng, offsets);
         EXPECT_EQ(out.sample.id, 2u);
         EXPECT_EQ(out.candidate_count, 4u);
         EXPECT_FLOAT_EQ(out.contribution_weight, reservoirs[4].contribution_weight);
@@ -362,7 +362,8 @@ TEST(SpatialReuse, IgnoresNonFiniteNeighboursAndInvalidReceivers) {
     restir::Pcg32 rng;
     const restir::ImageView<const Point> background_view{background.data(), 3u, 3u};
     expect_same(restir::spatial_resample({1, 1}, view, background_view,
-                                         restir::default_spatial_params(), offsets, bridge, rng),
+                                         restir::default_spatial_params(), {}, bridge, rng,
+                                         offsets),
                 reservoirs[4]);
 }
 
@@ -377,12 +378,12 @@ TEST(SpatialReuse, AddsTheCandidateCountsOfSimilarNeighbours) {
     const restir::ImageView<const Point> surface_view{surfaces.data(), 3u, 3u};
     for (BiasCorrection mode : all_modes) {
         restir::SpatialParams params = restir::default_spatial_params();
-        params.reuse.bias_correction = mode;
+        const restir::ReuseParams reuse{mode};
         params.neighbour_count = 15u;
         params.radius = 1.5f;
         restir::Pcg32 rng = restir::make_pixel_rng(4u, 0u, 0u);
         const Reservoir<LightId> out =
-            restir::spatial_resample({1, 1}, view, surface_view, params, offsets, bridge, rng);
+            restir::spatial_resample({1, 1}, view, surface_view, params, reuse, bridge, rng, offsets);
         // Only the four edge neighbours can take part, each 4 candidates, at most once per
         // offset that lands on them.
         EXPECT_EQ(out.candidate_count % 4u, 0u);
@@ -515,13 +516,13 @@ TEST(ReusePreconditions, OutOfRangeCallsAreCheckedInDebugAndDefinedInRelease) {
     const auto combine_many = [&] {
         restir::Pcg32 rng;
         return restir::combine_reservoirs(reservoirs[4], surfaces[4], many.data(), 40u,
-                                          params.reuse, bridge, rng);
+                                          restir::ReuseParams{}, bridge, rng);
     };
 #ifdef NDEBUG
     for (PixelCoord outside : {PixelCoord{-1, 0}, PixelCoord{3, 1}, PixelCoord{1, 1000}}) {
         restir::Pcg32 rng;
         const Reservoir<LightId> r =
-            restir::spatial_resample(outside, view, surface_view, params, offsets, bridge, rng);
+            restir::spatial_resample(outside, view, surface_view, params, {}, bridge, rng, offsets);
         EXPECT_EQ(r.candidate_count, 0u);
         EXPECT_EQ(r.contribution_weight, 0.0f);
         EXPECT_EQ(restir::boiling_filter(outside, view, filter).candidate_count, 0u);
@@ -531,7 +532,7 @@ TEST(ReusePreconditions, OutOfRangeCallsAreCheckedInDebugAndDefinedInRelease) {
 #else
     restir::Pcg32 rng;
     EXPECT_DEATH(
-        restir::spatial_resample({-1, 0}, view, surface_view, params, offsets, bridge, rng),
+        restir::spatial_resample({-1, 0}, view, surface_view, params, {}, bridge, rng, offsets),
         "contains");
     EXPECT_DEATH(restir::boiling_filter({3, 1}, view, filter), "contains");
     EXPECT_DEATH(combine_many(), "max_reuse_inputs");

@@ -53,10 +53,11 @@ void PrintTo(const ReuseSetup& setup, std::ostream* os) { *os << name_of(setup);
 class Pipeline {
 public:
     explicit Pipeline(const ReuseSetup& setup) : setup_(setup) {
-        temporal_.reuse = {setup.mode, setup.visibility_reuse};
-        temporal_.reuse.inputs_visibility_tested = setup.retest;
-        temporal_.reuse.trace_mis_visibility = setup.mis_rays;
-        spatial_.reuse = temporal_.reuse;
+        reuse_.bias_correction = setup.mode;
+        reuse_.visibility = !setup.visibility_reuse ? restir::ReuseVisibility::none
+                            : !setup.mis_rays       ? restir::ReuseVisibility::assumed
+                            : setup.retest          ? restir::ReuseVisibility::traced_inputs_tested
+                                                    : restir::ReuseVisibility::traced;
         spatial_.neighbour_count = 3u;
         spatial_.radius = 2.0f;
     }
@@ -118,7 +119,7 @@ private:
                 restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 1u, trial);
                 fused[i] = restir::spatiotemporal_resample(
                     pixel_of(i), current[i], surfaces[i], previous, previous_surfaces, Reproject{},
-                    temporal_, spatial_.search(), offsets_, bridge, rng);
+                    temporal_, spatial_, reuse_, frame, bridge, rng, offsets_);
             }
             current = fused;
         }
@@ -132,7 +133,7 @@ private:
                 restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 1u, trial);
                 temporal[i] = restir::temporal_resample(p, current[i], surfaces[i], previous,
                                                         previous_surfaces, Reproject{}, temporal_,
-                                                        bridge, rng);
+                                                        reuse_, frame, bridge, rng);
             }
             current = temporal;
             if (setup_.retest)
@@ -148,8 +149,8 @@ private:
             for (std::uint32_t i = 0; i < pixel_count; ++i) {
                 const PixelCoord p = pixel_of(i);
                 restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 2u + pass, trial);
-                spatial[i] = restir::spatial_resample(p, input, surface_view, spatial_, offsets_,
-                                                      bridge, rng);
+                spatial[i] = restir::spatial_resample(p, input, surface_view, spatial_, reuse_,
+                                                      bridge, rng, offsets_);
             }
             current = spatial;
             if (setup_.retest)
@@ -175,6 +176,7 @@ private:
     ReuseSetup setup_;
     restir::TemporalParams temporal_ = restir::default_temporal_params();
     restir::SpatialParams spatial_ = restir::default_spatial_params();
+    restir::ReuseParams reuse_{};
     restir::NeighbourOffsets offsets_ = restir::make_neighbour_offsets();
     std::vector<Reservoir<LightId>> history_, final_;
     std::vector<Patch> surfaces_;

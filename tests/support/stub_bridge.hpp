@@ -28,6 +28,8 @@ inline float next_float(Rng& rng) {
 /// A sample that is only an index.
 struct Sample {
     std::uint32_t id = 0u;
+    /// Only the frame recipe's tiles ask (they match traced answers to samples).
+    friend bool operator==(const Sample&, const Sample&) = default;
 };
 
 /// A surface known only through the four free functions.

@@ -42,30 +42,43 @@ enum class BiasCorrection {
     pairwise,
 };
 
-/// Settings shared by the temporal, spatial and fused passes.
+/// What the reservoirs that enter a reuse step know about visibility, and which shadow rays
+/// the MIS weights of the unbiased modes trace (Bitterli et al. 2020, Sec. 4 and Alg. 6).
+enum class ReuseVisibility : std::uint8_t {
+    /// No visibility reuse: no reservoir is visibility-tested before reuse, and reuse traces
+    /// no ray. Shade f(y) W only where y is visible.
+    none,
+    /// Visibility reuse (every reservoir went through `apply_visibility`: W = 0 where its
+    /// sample is occluded), and MIS weights that assume every sample visible from every
+    /// neighbour, as RTXDI's default pairwise mode does: no ray in reuse. The weights still sum
+    /// to one but give a neighbour weight for samples occluded from it, so the result is biased
+    /// near shadow boundaries (docs/noise-and-bias.md).
+    assumed,
+    /// Visibility reuse with exact MIS weights: a neighbour's p-hat includes its visibility (a
+    /// ray per neighbour and sample asked about), and each input's own sample is retested at
+    /// its own surface (one ray per input), since it may come out of an earlier reuse step.
+    traced,
+    /// As `traced`, for inputs whose own samples have all passed `apply_visibility` at their own
+    /// surfaces since they were last resampled (initial reservoirs, last frame's shaded ones,
+    /// the frame recipe's retested results): the same weights with k rays fewer per pixel.
+    traced_inputs_tested,
+};
+
+/// Whether reservoirs under `v` carry visibility (W = 0 where the sample is occluded).
+RESTIR_HOST_DEVICE constexpr bool carries_visibility(ReuseVisibility v) noexcept {
+    return v != ReuseVisibility::none;
+}
+/// Whether the MIS weights under `v` trace shadow rays.
+RESTIR_HOST_DEVICE constexpr bool traces_mis_rays(ReuseVisibility v) noexcept {
+    return v == ReuseVisibility::traced || v == ReuseVisibility::traced_inputs_tested;
+}
+
+/// How a reuse step weighs its inputs: the bias correction and the visibility it accounts for.
 struct ReuseParams {
     /// Default: pairwise MIS, unbiased at O(k) cost.
     BiasCorrection bias_correction = BiasCorrection::pairwise;
-    /// True when reservoirs carry visibility: the initial ones, and those stored for later
-    /// frames, went through `apply_visibility` (W = 0 for occluded samples). A neighbour then
-    /// only lends samples visible from it, and the MIS weights of the unbiased modes test
-    /// visibility at the neighbours to match. False when no reservoir is ever
-    /// visibility-tested before reuse (no rays are traced then).
-    bool visibility_reuse = true;
-    /// With visibility reuse: true traces the shadow rays that the MIS weights of the unbiased
-    /// modes need (exact: a neighbour's p-hat includes its visibility); false assumes every
-    /// sample visible from every neighbour inside the weights, as RTXDI's default pairwise
-    /// mode does, and traces no ray in reuse. The ray-free weights still sum to one, but give
-    /// a neighbour weight for samples it could not have produced (occluded from it), so the
-    /// result is biased near shadow boundaries; docs/noise-and-bias.md has the measured bias.
-    bool trace_mis_visibility = true;
-    /// With traced visibility reuse: true when every input's sample has passed
-    /// `apply_visibility` at the input's own surface since the input was last resampled (W = 0
-    /// when occluded), as this frame's initial reservoirs and last frame's shaded ones have.
-    /// An input's target at its own sample then needs no ray: exact, and k rays fewer per
-    /// pixel. A reservoir that came out of reuse may hold a sample that was never tested
-    /// there: test it first (one ray) or leave this false.
-    bool inputs_visibility_tested = false;
+    /// Default: visibility reuse with exact (traced) MIS weights.
+    ReuseVisibility visibility = ReuseVisibility::traced;
 };
 
 /// Largest number of reservoirs one reuse step combines (the canonical one included).
@@ -113,14 +126,12 @@ struct ReuseTerms {
     /// visibility reuse, unless the inputs are known to be tested).
     RESTIR_HOST_DEVICE float own(const Reservoir<Sample>& r, const S& there) const {
         const float t = r.target_value;
-        if (t > 0.0f && traces() && !params.inputs_visibility_tested &&
+        if (t > 0.0f && params.visibility == ReuseVisibility::traced &&
             !bridge.visibility(r.sample, there))
             return 0.0f;
         return t;
     }
-    RESTIR_HOST_DEVICE bool traces() const {
-        return params.visibility_reuse && params.trace_mis_visibility;
-    }
+    RESTIR_HOST_DEVICE bool traces() const { return traces_mis_rays(params.visibility); }
 };
 
 /// Input sets that declare `packed` hold only inputs that take part: non-null and well-formed.

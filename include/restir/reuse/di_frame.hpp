@@ -1,22 +1,27 @@
 /// @file reuse/di_frame.hpp
 /// The ReSTIR DI frame recipe: the order of the passes of one frame (Bitterli et al. 2020,
 /// Alg. 5 with the visibility reuse of Sec. 4), which buffer each pass reads and writes, where
-/// visibility is applied, and what becomes the next frame's history, written once so that an
-/// integrator calls it instead of rewriting it.
+/// visibility is tested, and what becomes the next frame's history, written once so that
+/// every pipeline calls it instead of rewriting it.
 ///
-/// Per pixel, in stages; every pixel finishes a stage before any pixel starts a stage that
-/// reads its neighbours (a kernel launch or a parallel loop per such stage):
-///   1. `initial`   your candidates (`resample_ris`, `resample_ris_batch`) tested for
+/// A frame is a list of steps (`DiFrame::step(i)`, `step_count()`); every pixel finishes a step
+/// before any pixel starts the next (a kernel launch or a parallel loop per step):
+///   1. `initial`   your candidates (`resample_ris`, `resample_ris_batch`), tested for
 ///                  visibility under visibility reuse,
-///   2. `temporal`  combined with last frame's history at the reprojected pixel (skipped when
+///   2. `temporal`  combined with last frame's history at the reprojected pixel (no step when
 ///                  there is no history: frame 0, a camera cut, a new light set),
 ///   3. `spatial`   combined with k neighbours, `spatial_passes` times, each pass reading the
 ///                  whole output of the one before,
 ///   4. `boiling`   optional filter against rare bright samples (reads a window),
-///   5. `finish`    the final visibility: shade f(y) W, and keep the result as the next
-///                  frame's history.
-/// Stages 1-2 read only their own pixel and run in one loop, as do 5 and the stage before it.
-/// `run_di_frame` runs all of it over an image with your parallel loop.
+///   5. `finish`    the final visibility; your `shade(pixel, reservoir, visible)` is called, and
+///                  the reservoir stays in `out` as the next frame's history.
+/// A step's results whose sample is new are retested for visibility before a reuse pass whose
+/// MIS weights trace rays reads them (`DiStep::retest`).
+///
+/// Two ways to run a step, one set of rules: per pixel with a `VisibilityFunction` that traces
+/// each ray when asked (`DiFrame::run_pixel`, a GPU thread with inline ray queries), or per
+/// tile of pixels with a `BatchVisibility` that traces each stage's rays as one batch
+/// (reuse/di_frame_tiles.hpp, CPU packets). `run_di_frame` runs every step over an image.
 #pragma once
 
 #include "restir/concepts.hpp"
@@ -41,32 +46,66 @@
 
 namespace restir {
 
-/// Settings of a ReSTIR DI frame.
+/// Settings of a ReSTIR DI frame. Every field is read; none overrides another.
 struct DiFrameParams {
-    /// Bias correction and visibility reuse of every pass: it replaces the `reuse` fields of
-    /// `temporal` and `spatial`, so that all passes agree on what the reservoirs carry.
-    ReuseParams reuse{};
-    /// Temporal reuse; its `frame_index` is set from the frame.
-    TemporalParams temporal = default_temporal_params();
-    /// Each spatial pass (the paper's k = 3 in 30 px for the unbiased modes).
-    SpatialParams spatial = default_spatial_params();
-    /// Spatial passes per frame (the paper: 1 to 4; 0 skips spatial reuse).
-    std::uint32_t spatial_passes = 1u;
+    /// Visibility reuse and the MIS rays, for every pass (all passes must agree on what the
+    /// reservoirs carry). The recipe tests every reservoir before a pass reads it, so `traced`
+    /// and `traced_inputs_tested` are the same here: exact weights, no ray for an input's own
+    /// sample.
+    ReuseVisibility visibility = ReuseVisibility::traced;
+    /// Bias correction of the temporal pass.
+    BiasCorrection temporal_bias_correction = BiasCorrection::pairwise;
+    /// Bias correction of each spatial pass.
+    BiasCorrection spatial_bias_correction = BiasCorrection::pairwise;
     /// False skips temporal reuse in every frame.
     bool temporal_reuse = true;
+    TemporalParams temporal = default_temporal_params();
+    /// Spatial passes per frame (the paper: 1 to 4; 0 skips spatial reuse).
+    std::uint32_t spatial_passes = 1u;
+    /// Each spatial pass (the paper's k = 3 in 30 px for the unbiased modes).
+    SpatialParams spatial = default_spatial_params();
     /// The boiling filter after the spatial passes (biased: off by default).
     bool boiling_filter = false;
     BoilingFilterParams boiling = default_boiling_filter_params();
-    /// True when the application traces the stages' visibility rays itself (in packets, or in
-    /// a separate kernel): the stages then trace none, and the caller tests every reservoir
-    /// for which `DiFrame::needs_visibility_test` says so, with `apply_visibility`, before the
-    /// next stage reads it. False: the stages trace them through the bridge.
-    bool deferred_visibility = false;
 };
 
-/// The paper's settings: pairwise MIS with visibility reuse, temporal reuse with a history cap
-/// of 20, one spatial pass of 3 neighbours in 30 pixels.
+/// The paper's settings: pairwise MIS with visibility reuse and traced MIS rays, temporal reuse
+/// with a history cap of 20, one spatial pass of 3 neighbours in 30 pixels.
 RESTIR_HOST_DEVICE constexpr DiFrameParams default_di_frame_params() noexcept { return {}; }
+
+/// The stages of a frame, in their order.
+enum class DiStage : std::uint8_t { initial, temporal, spatial, boiling, finish };
+
+/// One step of a frame: a stage, the buffers it reads and writes (0: `out`, 1: `scratch` of
+/// `DiBuffers`), and whether its new samples are retested before the next step reads them.
+struct DiStep {
+    DiStage stage = DiStage::initial;
+    std::uint32_t pass = 0u;  ///< The spatial pass (0 for the other stages).
+    std::uint32_t input = 0u; ///< Buffer read (the initial stage reads none).
+    std::uint32_t output = 0u; ///< Buffer written; `finish` writes the buffer it reads, `out`.
+    /// Results whose sample differs from the input's are visibility-tested (W = 0 when
+    /// occluded): the next step is a reuse pass whose MIS weights trace rays.
+    bool retest = false;
+};
+
+/// The two reservoir buffers of a frame, each of the image's size: the final reservoirs end
+/// in `out` (the next frame's history), `scratch` is the other side of the ping-pong. Neither
+/// may be the history.
+template <class Sample>
+struct DiBuffers {
+    ImageView<Reservoir<Sample>> out{};
+    ImageView<Reservoir<Sample>> scratch{};
+    RESTIR_HOST_DEVICE constexpr ImageView<Reservoir<Sample>> operator[](std::uint32_t i) const {
+        return i == 0u ? out : scratch;
+    }
+};
+
+/// A `shade(pixel, reservoir, visible)` that does nothing: the final reservoirs stay in `out`.
+struct NoShading {
+    template <class Sample>
+    RESTIR_HOST_DEVICE constexpr void operator()(PixelCoord, const Reservoir<Sample>&,
+                                                 bool) const noexcept {}
+};
 
 /// One frame of the recipe: the settings and the buffers that every pixel's stages read.
 /// Views hold pointers into the application's buffers (device pointers on a GPU).
@@ -86,24 +125,24 @@ requires(std::same_as<History, ImageView<const Reservoir<Sample>>> ||
     std::uint32_t frame_index = 0u;
     /// This frame's G-buffer.
     Surfaces surfaces{};
-    /// Last frame's G-buffer, and the reservoirs that last frame's `finish` stage returned.
+    /// Last frame's G-buffer, and the reservoirs that last frame's `finish` stage left in `out`.
     /// Leave `history` empty (`{}`) when it does not apply: in frame 0, after a camera cut,
     /// and after the light set changed (its samples would belong to another integrand).
     /// `previous_surfaces` may stay empty when the history decodes them (`HistorySurfaces`).
     ImageView<const S> previous_surfaces{};
     History history{};
     Reproject reproject{};
-    NeighbourOffsets offsets = make_neighbour_offsets();
+    /// The spatial passes' offset table, by reference; null: `default_neighbour_offsets()`
+    /// (static storage on the host, constant memory on a GPU). A table of your own must
+    /// outlive the frame (device memory for a kernel).
+    const NeighbourOffsets* offsets = nullptr;
 
     /// Whether the history is loaded by value (a `ReservoirHistory`) rather than viewed.
     static constexpr bool loads_history =
         !std::same_as<History, ImageView<const Reservoir<Sample>>>;
-
     /// Whether the history decodes last frame's surfaces itself (`HistorySurfaces`): then
     /// `previous_surfaces` may stay empty.
     static constexpr bool history_has_surfaces = HistorySurfaces<History, S>;
-    /// What `temporal_input` returns for a loaded history.
-    using LoadedInput = LoadedHistoryInput<Sample, S, history_has_surfaces>;
 
     /// Whether `history` is empty (frame 0, a camera cut, a new light set).
     RESTIR_HOST_DEVICE constexpr bool history_is_empty() const noexcept {
@@ -112,46 +151,74 @@ requires(std::same_as<History, ImageView<const Reservoir<Sample>>> ||
         else
             return history.data == nullptr;
     }
-
-    /// Whether stage 2 reuses anything this frame.
+    /// Whether the temporal stage runs this frame.
     RESTIR_HOST_DEVICE constexpr bool has_history() const noexcept {
         return params.temporal_reuse && !history_is_empty() &&
                (history_has_surfaces || previous_surfaces.data != nullptr);
     }
 
-    /// The temporal pass's settings as the recipe runs it. Under visibility reuse every
-    /// reservoir that enters a pass has been tested at its own surface (by `initial`, by
-    /// `finish` for the history, and by the retests between passes), which spares the MIS
-    /// weights one ray per input.
-    RESTIR_HOST_DEVICE constexpr TemporalParams temporal_params() const noexcept {
-        TemporalParams t = params.temporal;
-        t.reuse = params.reuse;
-        t.reuse.inputs_visibility_tested = params.reuse.visibility_reuse;
-        t.frame_index = frame_index;
-        return t;
+    // --- The steps ------------------------------------------------------------------------
+
+    /// How many steps this frame has: initial, temporal (with history), the spatial passes,
+    /// boiling (when on), finish.
+    RESTIR_HOST_DEVICE constexpr std::uint32_t step_count() const noexcept {
+        return writer_count() + 1u;
     }
-    /// The spatial passes' settings as the recipe runs them (see `temporal_params`).
-    RESTIR_HOST_DEVICE constexpr SpatialParams spatial_params() const noexcept {
-        SpatialParams s = params.spatial;
-        s.reuse = params.reuse;
-        s.reuse.inputs_visibility_tested = params.reuse.visibility_reuse;
+    /// Step `i` (< `step_count()`), with its buffers: the writers alternate so that the last
+    /// one writes `out`, which `finish` then completes in place.
+    RESTIR_HOST_DEVICE constexpr DiStep step(std::uint32_t i) const noexcept {
+        const std::uint32_t writers = writer_count();
+        DiStep s;
+        if (i >= writers) {
+            s.stage = DiStage::finish;
+            return s;
+        }
+        s.output = (writers - 1u - i) % 2u;
+        s.input = 1u - s.output;
+        const std::uint32_t temporal_steps = has_history() ? 1u : 0u;
+        if (i == 0u) {
+            s.stage = DiStage::initial;
+        } else if (i <= temporal_steps) {
+            s.stage = DiStage::temporal;
+        } else if (i <= temporal_steps + params.spatial_passes) {
+            s.stage = DiStage::spatial;
+            s.pass = i - 1u - temporal_steps;
+        } else {
+            s.stage = DiStage::boiling;
+        }
+        // Before a spatial pass with traced MIS rays, the samples that a reuse step brought in
+        // are tested where they now are (the initial stage tests all of its own).
+        const bool reuses = s.stage == DiStage::temporal || s.stage == DiStage::spatial;
+        const bool next_is_spatial = i >= temporal_steps && i < temporal_steps + params.spatial_passes;
+        s.retest = reuses && next_is_spatial && traces_mis_rays(params.visibility);
         return s;
     }
 
-    /// Whether the passes' MIS weights trace shadow rays (visibility reuse with traced MIS
-    /// visibility, in an unbiased mode): then every pass input must be tested at its own surface.
-    RESTIR_HOST_DEVICE constexpr bool mis_weights_trace_rays() const noexcept {
-        return params.reuse.visibility_reuse && params.reuse.trace_mis_visibility &&
-               params.reuse.bias_correction != BiasCorrection::none;
+    /// The settings of the temporal pass as the recipe runs it: every input tested.
+    RESTIR_HOST_DEVICE constexpr ReuseParams temporal_reuse_params() const noexcept {
+        return {params.temporal_bias_correction, recipe_visibility()};
+    }
+    /// The settings of each spatial pass as the recipe runs it: every input tested.
+    RESTIR_HOST_DEVICE constexpr ReuseParams spatial_reuse_params() const noexcept {
+        return {params.spatial_bias_correction, recipe_visibility()};
+    }
+    /// The offset table of the spatial passes.
+    RESTIR_HOST_DEVICE const NeighbourOffsets& offset_table() const noexcept {
+        return offsets != nullptr ? *offsets : default_neighbour_offsets();
     }
 
-    /// Whether a pass's result must be tested for visibility before the next pass reads it:
-    /// under visibility reuse whose MIS weights trace rays, a result whose sample is not the
-    /// pixel's own `input` sample (already tested there). Stages 1 and 5 test every
-    /// sample under visibility reuse (`needs_visibility_test(r)`).
-    RESTIR_HOST_DEVICE constexpr bool needs_visibility_test(const Reservoir<Sample>& result,
-                                                            const Reservoir<Sample>& input) const {
-        if (!mis_weights_trace_rays() || !result.has_sample())
+    // --- The rules of visibility ----------------------------------------------------------
+
+    /// Whether the initial stage tests `r`, and `finish` (unless `finish_retests()` is false):
+    /// under visibility reuse, every reservoir that holds a sample.
+    RESTIR_HOST_DEVICE constexpr bool tests(const Reservoir<Sample>& r) const noexcept {
+        return carries_visibility(params.visibility) && r.has_sample();
+    }
+    /// Whether a step with `retest` tests its `result` for a pixel whose input was `input`: a
+    /// sample the step brought in (the pixel's own was tested already).
+    RESTIR_HOST_DEVICE constexpr bool retests(const Reservoir<Sample>& result,
+                                              const Reservoir<Sample>& input) const {
+        if (!result.has_sample())
             return false;
         if constexpr (requires {
                           { result.sample == input.sample } -> std::convertible_to<bool>;
@@ -159,264 +226,220 @@ requires(std::same_as<History, ImageView<const Reservoir<Sample>>> ||
             return !(input.has_sample() && result.sample == input.sample);
         return true;
     }
-    /// Whether stages 1 and 5 test `result` (visibility reuse, and it holds a sample).
-    RESTIR_HOST_DEVICE constexpr bool
-    needs_visibility_test(const Reservoir<Sample>& result) const noexcept {
-        return params.reuse.visibility_reuse && result.has_sample();
+    /// Whether `finish` traces the final visibility: not when the initial stage's test is the
+    /// last (no temporal or spatial step brought a sample in since).
+    RESTIR_HOST_DEVICE constexpr bool finish_retests() const noexcept {
+        return !carries_visibility(params.visibility) || has_history() ||
+               params.spatial_passes > 0u;
     }
 
-    /// Stage 1: the pixel's initial reservoir `candidates` (finalised RIS for its surface),
-    /// with W = 0 when its sample is occluded, under visibility reuse.
-    template <class Visibility>
-    requires VisibilityFunction<Visibility, Sample, S> RESTIR_HOST_DEVICE Reservoir<Sample>
-    initial(PixelCoord pixel, const Reservoir<Sample>& candidates, const Visibility& visible)
-    const { return tested(pixel, candidates, visible); }
+    // --- Per pixel, visibility traced when asked ------------------------------------------
 
-    /// Stage 2: `current` (stage 1's result) combined with the history; `current` unchanged
-    /// without history. Draws one uniform number per input that takes part.
-    template <class Target, class Visibility, class MaterialTest, UniformRng Rng>
+    /// Step `step` at `pixel`, every ray traced through `bridge.visibility` when asked (a
+    /// `VisibilityFunction`). `initial_candidates(pixel, surface, rng)` returns the pixel's
+    /// finalised RIS reservoir (called for valid surfaces only); `rng_for(pixel, stream)` a
+    /// generator for the pixel and a `RngStream` stream; `shade(pixel, reservoir, visible)` is
+    /// called by `finish` with the final reservoir and whether f(y) W is to be shaded.
+    template <class Initial, class Target, class Visibility, class MaterialTest, class RngFor,
+              class Shade = NoShading>
     requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
-        RESTIR_HOST_DEVICE Reservoir<Sample>
-        temporal(PixelCoord pixel, const Reservoir<Sample>& current,
-                 const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng)
-    const {
-        return temporal_combine(pixel, current, temporal_input(pixel, bridge.material_test), bridge,
-                                rng);
+        RESTIR_HOST_DEVICE void run_pixel(const DiStep& step, PixelCoord pixel,
+                                          const DiBuffers<Sample>& buffers,
+                                          const Initial& initial_candidates,
+                                          const ReuseBridge<Target, Visibility, MaterialTest>& bridge,
+                                          const RngFor& rng_for, const Shade& shade = {}) const {
+        const ImageView<Reservoir<Sample>> output = buffers[step.output];
+        const ImageView<const Reservoir<Sample>> input = buffers[step.input];
+        switch (step.stage) {
+        case DiStage::initial: {
+            Reservoir<Sample> r = initial_reservoir(pixel, initial_candidates, rng_for);
+            if (tests(r))
+                apply_visibility(r, surface_at(surfaces, pixel), bridge.visibility);
+            output[pixel] = r;
+            return;
+        }
+        case DiStage::temporal: {
+            auto rng = rng_for(pixel, RngStream::temporal);
+            Reservoir<Sample> r = temporal(pixel, input[pixel], temporal_input(pixel, bridge), bridge, rng);
+            retest_immediately(step, pixel, r, input[pixel], bridge.visibility);
+            output[pixel] = r;
+            return;
+        }
+        case DiStage::spatial: {
+            auto rng = rng_for(pixel, RngStream::spatial + step.pass);
+            Reservoir<Sample> r = combines_at(pixel)
+                                      ? spatial(pixel, input, neighbours(pixel, input, bridge, rng),
+                                                bridge, rng)
+                                      : input[pixel];
+            retest_immediately(step, pixel, r, input[pixel], bridge.visibility);
+            output[pixel] = r;
+            return;
+        }
+        case DiStage::boiling:
+            output[pixel] = boiling_filter(pixel, input, params.boiling);
+            return;
+        case DiStage::finish: {
+            Reservoir<Sample> r = output[pixel];
+            bool visible = r.has_sample();
+            if (visible && finish_retests())
+                visible = bridge.visibility(r.sample, surface_at(surfaces, pixel));
+            if (carries_visibility(params.visibility)) {
+                apply_visibility(r, visible);
+                output[pixel] = r;
+            }
+            shade(pixel, r, visible);
+            return;
+        }
+        }
     }
 
-    /// The first half of `temporal`: the history input that stage 2 of `pixel` reuses, for
-    /// renderers that trace its MIS ray ahead of `temporal_combine`. A `ReuseInput` pointing
-    /// into the history view (null pointers when none), or for a `ReservoirHistory` a
-    /// `LoadedHistoryInput` (null surface when none).
-    template <class MaterialTest = AnyMaterial>
-    RESTIR_HOST_DEVICE auto temporal_input(PixelCoord pixel,
-                                           const MaterialTest& material_test = {}) const {
-        const TemporalParams t = temporal_params();
-        std::conditional_t<loads_history, LoadedInput, ReuseInput<Sample, S>> input{};
-        if (!has_history())
-            return input;
+    // --- The parts of a stage, for the per-pixel and the per-tile runs ----------------------
+
+    /// Whether reuse combines at `pixel` (inside the image, a valid surface); another pixel
+    /// keeps its reservoir.
+    RESTIR_HOST_DEVICE bool combines_at(PixelCoord pixel) const {
+        return surfaces.contains(pixel) && is_valid_surface(surface_at(surfaces, pixel));
+    }
+    /// The initial stage's reservoir at `pixel` before its visibility test (empty for an
+    /// invalid surface).
+    template <class Initial, class RngFor>
+    RESTIR_HOST_DEVICE Reservoir<Sample> initial_reservoir(PixelCoord pixel,
+                                                           const Initial& initial_candidates,
+                                                           const RngFor& rng_for) const {
+        Reservoir<Sample> r{};
+        if (combines_at(pixel)) {
+            auto rng = rng_for(pixel, RngStream::initial);
+            r = initial_candidates(pixel, surface_at(surfaces, pixel), rng);
+        }
+        return r;
+    }
+    /// The history input that the temporal stage of `pixel` reuses: a `ReuseInput` pointing
+    /// into the history view, or for a `ReservoirHistory` a `detail::LoadedHistoryInput`
+    /// (both lend nothing where the history does not apply).
+    template <class Bridge>
+    RESTIR_HOST_DEVICE auto temporal_input(PixelCoord pixel, const Bridge& bridge) const {
+        std::conditional_t<loads_history, LoadedInput, ReuseInput<Sample, S>> found{};
+        if (!has_history() || !combines_at(pixel))
+            return found;
         const auto& here = surface_at(surfaces, pixel);
-        if (!is_valid_surface(here))
-            return input;
-        const PixelCoord p = history_pixel(reproject(pixel), t);
+        const SimilarityParams& similarity = params.temporal.similarity;
+        const PixelCoord p = history_pixel(reproject(pixel), params.temporal, frame_index);
         if constexpr (history_has_surfaces) {
             if (history.contains(p)) {
-                input.reservoir = history.load(p);
-                input.surface = history.surface(p);
-                input.lends = input.reservoir.is_well_formed() &&
-                              surfaces_similar(here, input.surface, t.similarity, material_test);
+                found.reservoir = history.load(p);
+                found.surface = history.surface(p);
+                found.lends = found.reservoir.is_well_formed() &&
+                              surfaces_similar(here, found.surface, similarity, bridge.material_test);
             }
         } else if constexpr (loads_history) {
             if (history.contains(p) && previous_surfaces.contains(p)) {
-                input.reservoir = history.load(p);
-                if (input.reservoir.is_well_formed() &&
-                    surfaces_similar(here, previous_surfaces[p], t.similarity, material_test))
-                    input.surface = &previous_surfaces[p];
+                found.reservoir = history.load(p);
+                if (found.reservoir.is_well_formed() &&
+                    surfaces_similar(here, previous_surfaces[p], similarity, bridge.material_test))
+                    found.surface = &previous_surfaces[p];
             }
         } else {
-            input =
-                reusable_input(p, here, history, previous_surfaces, t.similarity, material_test);
+            found = reusable_input(p, here, history, previous_surfaces, similarity,
+                                   bridge.material_test);
         }
-        return input;
+        return found;
     }
-
-    /// `temporal_combine` for a history input loaded by value.
-    template <class Target, class Visibility, class MaterialTest, UniformRng Rng>
-    requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
-        RESTIR_HOST_DEVICE Reservoir<Sample>
-        temporal_combine(PixelCoord pixel, const Reservoir<Sample>& current,
-                         const LoadedInput& input,
-                         const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng)
-    const { return temporal_combine(pixel, current, input.lending(), bridge, rng); }
-
-    /// The second half of `temporal`: combines `current` with the `input` that
-    /// `temporal_input` found.
-    template <class Target, class Visibility, class MaterialTest, UniformRng Rng>
-    requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
-        RESTIR_HOST_DEVICE Reservoir<Sample>
-        temporal_combine(PixelCoord pixel, const Reservoir<Sample>& current,
-                         ReuseInput<Sample, S> input,
-                         const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng)
-    const {
+    /// The temporal stage's combination of `current` with the history `found` for it
+    /// (`current` unchanged where `found` lends nothing). Draws one uniform number per input
+    /// that takes part.
+    template <class Input, class Bridge, UniformRng Rng>
+    RESTIR_HOST_DEVICE Reservoir<Sample> temporal(PixelCoord pixel, const Reservoir<Sample>& current,
+                                                  const Input& found, const Bridge& bridge,
+                                                  Rng& rng) const {
+        ReuseInput<Sample, S> input{};
+        if constexpr (loads_history)
+            input = found.lending();
+        else
+            input = found;
         // One named result, returned once, so that it is built in place.
-        const bool reuses = input.reservoir != nullptr;
-        Reservoir<Sample> result =
-            reuses ? restir::temporal_combine(current, surface_at(surfaces, pixel), input,
-                                              temporal_params(), bridge, rng)
-                   : current;
-        if (reuses && params.spatial_passes > 0u)
-            retest(pixel, result, current, bridge.visibility);
+        Reservoir<Sample> result = current;
+        if (input.reservoir != nullptr && combines_at(pixel))
+            result = restir::temporal_combine(current, surface_at(surfaces, pixel), input,
+                                              params.temporal, temporal_reuse_params(), bridge, rng);
         return result;
     }
-
-    /// Stage 3, pass `pass`: the pixel's reservoir in `input` (the whole output of the stage
-    /// before) combined with its neighbours', streamed (`SpatialNeighbours`: no array of
-    /// inputs). Write the result to another buffer.
-    template <class Target, class Visibility, class MaterialTest, UniformRng Rng>
-    requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
-        RESTIR_HOST_DEVICE Reservoir<Sample>
-        spatial(PixelCoord pixel, std::uint32_t pass, ImageView<const Reservoir<Sample>> input,
-                const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng)
-    const {
-        // Not spatial_combine(spatial_neighbours(...)): through the returned set nvcc kept the
-        // whole frame in local memory (656 bytes of stack); built here, the set stays in registers.
-        if (!combines_spatially(pixel, input))
-            return kept(pixel, input);
-        const SpatialParams spatial = spatial_params();
-        return spatial_result(pixel, pass, input,
-                              find_spatial_neighbours(pixel, surface_at(surfaces, pixel), input,
-                                                      surfaces, spatial, offsets,
-                                                      bridge.material_test, rng),
-                              bridge, rng);
-    }
-
-    /// The first half of `spatial`, for renderers that trace a pass's MIS rays ahead of it:
-    /// the neighbours the pass reuses (`SpatialNeighbours`; its inputs, visited in order, name
-    /// their surfaces), empty for a pixel that keeps its reservoir. `spatial_combine` takes them
-    /// with the same `rng`.
-    template <class MaterialTest, UniformRng Rng>
+    /// The neighbours that a spatial pass of `pixel` (which must `combines_at`) reuses from
+    /// `input`, the whole output of the step before. Two uniform numbers.
+    template <class Bridge, UniformRng Rng>
     RESTIR_HOST_DEVICE SpatialNeighbours<Sample, S, Surfaces>
-    spatial_neighbours(PixelCoord pixel, ImageView<const Reservoir<Sample>> input,
-                       const MaterialTest& material_test, Rng& rng) const {
-        if (!surfaces.contains(pixel) || !is_valid_surface(surface_at(surfaces, pixel)))
-            return {};
-        const SpatialParams spatial = spatial_params();
-        return find_spatial_neighbours(pixel, surface_at(surfaces, pixel), input, surfaces, spatial,
-                                       offsets, material_test, rng);
+    neighbours(PixelCoord pixel, ImageView<const Reservoir<Sample>> input, const Bridge& bridge,
+               Rng& rng) const {
+        return find_spatial_neighbours(pixel, surface_at(surfaces, pixel), input, surfaces,
+                                       params.spatial, offset_table(), bridge.material_test, rng);
     }
-
-    /// The second half of `spatial`: combines the pixel's own reservoir in `input` with the
-    /// `neighbours` that `spatial_neighbours` found (or any `ReuseInputs` set).
-    template <class Inputs, class Target, class Visibility, class MaterialTest, UniformRng Rng>
-    requires ReuseInputs<Inputs, Sample, S> && TargetFunction<Target, Sample, S> &&
-        VisibilityFunction<Visibility, Sample, S>
-            RESTIR_HOST_DEVICE Reservoir<Sample>
-            spatial_combine(PixelCoord pixel, std::uint32_t pass,
-                            ImageView<const Reservoir<Sample>> input, const Inputs& neighbours,
-                            const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng)
-    const {
-        // One named result, returned once (see `temporal_combine`).
-        const bool combines = combines_spatially(pixel, input);
-        Reservoir<Sample> result = combines
-                                       ? spatial_result(pixel, pass, input, neighbours, bridge, rng)
-                                       : kept(pixel, input);
-        return result;
+    /// A spatial pass's combination at `pixel` (which must `combines_at`) of its reservoir in
+    /// `input` with `inputs` (the set `neighbours` found, with the same generator).
+    template <class Inputs, class Bridge, UniformRng Rng>
+    RESTIR_HOST_DEVICE Reservoir<Sample> spatial(PixelCoord pixel,
+                                                 ImageView<const Reservoir<Sample>> input,
+                                                 const Inputs& inputs, const Bridge& bridge,
+                                                 Rng& rng) const {
+        return combine_inputs(input[pixel], surface_at(surfaces, pixel), inputs,
+                              spatial_reuse_params(), bridge, rng);
     }
-
-    /// Stage 4 (with `params.boiling_filter`): the pixel's reservoir in `input` (the last
-    /// spatial pass's output), emptied when far brighter than its window.
-    RESTIR_HOST_DEVICE Reservoir<Sample> boiling(PixelCoord pixel,
-                                                 ImageView<const Reservoir<Sample>> input) const {
-        return params.boiling_filter ? boiling_filter(pixel, input, params.boiling) : input[pixel];
-    }
-
-    /// Stage 5: the final visibility. Under visibility reuse W becomes 0 where the sample is
-    /// occluded: shade the unshadowed f(y) W, and store the result as the next frame's
-    /// `history`. Without visibility reuse the reservoir is returned as it is: store it, and
-    /// shade f(y) W only where the sample is visible.
-    template <class Visibility>
-    requires VisibilityFunction<Visibility, Sample, S> RESTIR_HOST_DEVICE Reservoir<Sample>
-    finish(PixelCoord pixel, const Reservoir<Sample>& reservoir, const Visibility& visible)
-    const { return tested(pixel, reservoir, visible); }
 
 private:
-    // Whether a spatial pass combines at `pixel` (inside the views, a valid surface); a pixel
-    // that does not keeps its reservoir (`kept`: empty outside the views).
-    RESTIR_HOST_DEVICE bool combines_spatially(PixelCoord pixel,
-                                               ImageView<const Reservoir<Sample>> input) const {
-        RESTIR_ASSERT(input.contains(pixel) && surfaces.contains(pixel));
-        return input.contains(pixel) && surfaces.contains(pixel) &&
-               is_valid_surface(surface_at(surfaces, pixel));
+    using LoadedInput = detail::LoadedHistoryInput<Sample, S, history_has_surfaces>;
+
+    RESTIR_HOST_DEVICE constexpr std::uint32_t writer_count() const noexcept {
+        return 1u + (has_history() ? 1u : 0u) + params.spatial_passes +
+               (params.boiling_filter ? 1u : 0u);
     }
-    RESTIR_HOST_DEVICE Reservoir<Sample> kept(PixelCoord pixel,
-                                              ImageView<const Reservoir<Sample>> input) const {
-        return input.contains(pixel) ? input[pixel] : Reservoir<Sample>{};
-    }
-    // A spatial pass's combination at a pixel that combines, retested before another pass.
-    template <class Inputs, class Target, class Visibility, class MaterialTest, UniformRng Rng>
-    RESTIR_HOST_DEVICE Reservoir<Sample>
-    spatial_result(PixelCoord pixel, std::uint32_t pass, ImageView<const Reservoir<Sample>> input,
-                   const Inputs& inputs,
-                   const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng) const {
-        Reservoir<Sample> result = combine_inputs(input[pixel], surface_at(surfaces, pixel), inputs,
-                                                  spatial_params().reuse, bridge, rng);
-        if (pass + 1u < params.spatial_passes)
-            retest(pixel, result, input[pixel], bridge.visibility);
-        return result;
-    }
-    // Stages 1 and 5: `reservoir` with W = 0 when occluded, under visibility reuse.
-    template <class Visibility>
-    RESTIR_HOST_DEVICE Reservoir<Sample> tested(PixelCoord pixel, Reservoir<Sample> reservoir,
-                                                const Visibility& visible) const {
-        if (!params.deferred_visibility && needs_visibility_test(reservoir))
-            apply_visibility(reservoir, surface_at(surfaces, pixel), visible);
-        return reservoir;
+    RESTIR_HOST_DEVICE constexpr ReuseVisibility recipe_visibility() const noexcept {
+        return params.visibility == ReuseVisibility::traced ? ReuseVisibility::traced_inputs_tested
+                                                            : params.visibility;
     }
     template <class Visibility>
-    RESTIR_HOST_DEVICE void retest(PixelCoord pixel, Reservoir<Sample>& result,
-                                   const Reservoir<Sample>& input,
-                                   const Visibility& visible) const {
-        if (!params.deferred_visibility && needs_visibility_test(result, input))
+    RESTIR_HOST_DEVICE void retest_immediately(const DiStep& step, PixelCoord pixel,
+                                               Reservoir<Sample>& result,
+                                               const Reservoir<Sample>& input,
+                                               const Visibility& visible) const {
+        if (step.retest && retests(result, input))
             apply_visibility(result, surface_at(surfaces, pixel), visible);
     }
 };
 
-/// Runs one frame of the recipe over the image. `for_each_pixel(body)` calls `body(PixelCoord)`
-/// once for every pixel of the image, in any order or in parallel, and returns when all calls
-/// have returned. `initial_candidates(pixel, surface, rng)` returns the pixel's finalised RIS
-/// reservoir (called for valid surfaces only). `rng_for(pixel, stream)` returns a generator
-/// for the pixel and a `RngStream` stream (e.g. `make_pixel_rng(index, frame, stream, seed)`).
-/// Writes the final reservoirs to `out`, which becomes the next frame's `history`; `scratch`
-/// is the second working buffer; both have the image's size and neither may be `history`.
+/// Runs one frame of the recipe over the image, per pixel, every ray traced when asked.
+/// `for_each_pixel(body)` calls `body(PixelCoord)` once for every pixel of the image, in any
+/// order or in parallel, and returns when all calls have returned. The other arguments are
+/// those of `DiFrame::run_pixel`. The final reservoirs end in `buffers.out`, the next frame's
+/// history. (reuse/di_frame_tiles.hpp runs it per tile with batched rays.)
+template <class Sample, Surface S, Reprojection Reproject, class History, class Surfaces,
+          class ForEachPixel, class Initial, class Target, class Visibility, class MaterialTest,
+          class RngFor, class Shade = NoShading>
+requires VisibilityFunction<Visibility, Sample, S>
+void run_di_frame(const DiFrame<Sample, S, Reproject, History, Surfaces>& frame,
+                  const DiBuffers<Sample>& buffers, const ForEachPixel& for_each_pixel,
+                  const Initial& initial_candidates,
+                  const ReuseBridge<Target, Visibility, MaterialTest>& bridge,
+                  const RngFor& rng_for, const Shade& shade = {}) {
+    const std::uint32_t steps = frame.step_count();
+    for (std::uint32_t i = 0; i < steps; ++i) {
+        const DiStep step = frame.step(i);
+        for_each_pixel([&](PixelCoord pixel) {
+            frame.run_pixel(step, pixel, buffers, initial_candidates, bridge, rng_for, shade);
+        });
+    }
+}
+
+/// `run_di_frame` with the final reservoirs in `out` and `scratch` the other buffer (the form
+/// before 0.2).
 template <class Sample, Surface S, Reprojection Reproject, class History, class Surfaces,
           class ForEachPixel, class Initial, class Target, class Visibility, class MaterialTest,
           class RngFor>
+requires VisibilityFunction<Visibility, Sample, S>
 void run_di_frame(const DiFrame<Sample, S, Reproject, History, Surfaces>& frame,
                   ImageView<Reservoir<Sample>> out, ImageView<Reservoir<Sample>> scratch,
                   const ForEachPixel& for_each_pixel, const Initial& initial_candidates,
                   const ReuseBridge<Target, Visibility, MaterialTest>& bridge,
                   const RngFor& rng_for) {
-    const DiFrameParams& p = frame.params;
-    // Stages that read neighbours write a new buffer; ping-pong so that the last one is `out`.
-    const std::uint32_t loops = 1u + p.spatial_passes + (p.boiling_filter ? 1u : 0u);
-    ImageView<Reservoir<Sample>> target = loops % 2u == 1u ? out : scratch;
-    ImageView<Reservoir<Sample>> other = loops % 2u == 1u ? scratch : out;
-    std::uint32_t remaining = loops;
-    const auto last = [&](PixelCoord pixel, Reservoir<Sample> r) {
-        return remaining == 1u ? frame.finish(pixel, r, bridge.visibility) : r;
-    };
-    // Stages 1 and 2.
-    for_each_pixel([&](PixelCoord pixel) {
-        Reservoir<Sample> r{};
-        const auto& surface = surface_at(frame.surfaces, pixel);
-        if (is_valid_surface(surface)) {
-            auto rng = rng_for(pixel, RngStream::initial);
-            r = frame.initial(pixel, initial_candidates(pixel, surface, rng), bridge.visibility);
-            auto temporal_rng = rng_for(pixel, RngStream::temporal);
-            r = frame.temporal(pixel, r, bridge, temporal_rng);
-        }
-        // Without history and further passes, stage 1 has tested the sample already.
-        target[pixel] = remaining == 1u && !frame.has_history() ? r : last(pixel, r);
-    });
-    // Stage 3.
-    for (std::uint32_t pass = 0; pass < p.spatial_passes; ++pass) {
-        --remaining;
-        const ImageView<const Reservoir<Sample>> input = target;
-        ImageView<Reservoir<Sample>> written = other;
-        for_each_pixel([&](PixelCoord pixel) {
-            auto rng = rng_for(pixel, RngStream::spatial + pass);
-            written[pixel] = last(pixel, frame.spatial(pixel, pass, input, bridge, rng));
-        });
-        other = target;
-        target = written;
-    }
-    // Stage 4; stage 5 ran in the last loop.
-    if (p.boiling_filter) {
-        --remaining;
-        const ImageView<const Reservoir<Sample>> input = target;
-        for_each_pixel(
-            [&](PixelCoord pixel) { other[pixel] = last(pixel, frame.boiling(pixel, input)); });
-    }
+    run_di_frame(frame, DiBuffers<Sample>{out, scratch}, for_each_pixel, initial_candidates, bridge,
+                 rng_for);
 }
 
 } // namespace restir

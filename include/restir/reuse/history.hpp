@@ -36,6 +36,8 @@ concept HistorySurfaces = requires(const H& h, PixelCoord p) {
     { h.surface(p) } -> std::convertible_to<SurfaceT>;
 };
 
+namespace detail {
+
 /// A history reservoir loaded by value, with the previous-frame surface it belongs to: a
 /// pointer into the previous G-buffer, or, when the history decodes surfaces itself
 /// (`OwnsSurface`), a copy. What `DiFrame::temporal_input` returns for a `ReservoirHistory`.
@@ -60,6 +62,13 @@ struct LoadedHistoryInput<Sample, SurfaceT, true> {
                      : ReuseInput<Sample, SurfaceT>{};
     }
 };
+
+} // namespace detail
+
+/// The history input's name before 0.2, when it was public.
+template <class Sample, class SurfaceT, bool OwnsSurface = false>
+using LoadedHistoryInput [[deprecated("an implementation detail of DiFrame now")]] =
+    detail::LoadedHistoryInput<Sample, SurfaceT, OwnsSurface>;
 
 /// The light-id translation of a history whose light set did not change: every id stays.
 struct SameLightIds {

@@ -20,7 +20,9 @@ struct DiskOffset {
 /// How many offsets the table holds (a power of two, so wrapping is a mask).
 inline constexpr std::uint32_t neighbour_offset_count = 64u;
 
-/// The offset table; trivially copyable, 512 bytes (GPU constant memory fits it).
+/// The offset table; trivially copyable, 512 bytes. Passes and the frame recipe take it by
+/// reference (`default_neighbour_offsets()` unless you bring your own), so that no kernel copies
+/// it to local memory.
 struct NeighbourOffsets {
     DiskOffset offsets[neighbour_offset_count];
 
@@ -50,5 +52,26 @@ RESTIR_HOST_DEVICE constexpr NeighbourOffsets make_neighbour_offsets() noexcept 
     }
     return table;
 }
+
+namespace detail {
+#if defined(__CUDACC__)
+// One copy per translation unit in constant memory, initialised at compile time.
+static __constant__ NeighbourOffsets device_neighbour_offsets = make_neighbour_offsets();
+#endif
+inline constexpr NeighbourOffsets host_neighbour_offsets = make_neighbour_offsets();
+} // namespace detail
+
+/// The library's offset table: in static storage on the host, in constant memory on a GPU
+/// (compiled by nvcc), so that taking it costs no stack.
+RESTIR_HOST_DEVICE inline const NeighbourOffsets& default_neighbour_offsets() noexcept {
+#if defined(__CUDA_ARCH__)
+    return detail::device_neighbour_offsets;
+#else
+    return detail::host_neighbour_offsets;
+#endif
+}
+
+/// The table's name before 0.2.
+using NeighborOffsets [[deprecated("use restir::NeighbourOffsets")]] = NeighbourOffsets;
 
 } // namespace restir

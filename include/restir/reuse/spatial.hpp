@@ -23,29 +23,26 @@
 
 namespace restir {
 
-/// Where a pass looks for neighbours: k offsets in a disk of `radius` pixels.
+/// Where a pass looks for neighbours: k offsets in a disk of `radius` pixels. Only the
+/// deprecated overload of `spatiotemporal_resample` takes it; the fused pass takes
+/// `SpatialParams` again, as in 0.1. To be removed in 0.3.
 struct NeighbourSearch {
     std::uint32_t neighbour_count = 3u; ///< k, at most max_reuse_inputs - 1.
     float radius = 30.0f;               ///< In pixels.
 };
 
-/// Settings of one spatial pass.
+/// Where one spatial pass looks for neighbours. (The bias correction and visibility are a
+/// `ReuseParams` of their own.)
 struct SpatialParams {
-    ReuseParams reuse{};
     SimilarityParams similarity{};
     /// k: neighbours tried per pixel (the paper: 5 for the biased mode, 3 for unbiased ones).
     /// At most max_reuse_inputs - 1.
     std::uint32_t neighbour_count = 3u;
     /// Radius of the neighbourhood in pixels (the paper's 30).
     float radius = 30.0f;
-
-    /// The neighbour search alone: what the fused pass takes.
-    RESTIR_HOST_DEVICE constexpr NeighbourSearch search() const noexcept {
-        return {neighbour_count, radius};
-    }
 };
 
-/// The paper's unbiased settings: pairwise MIS, visibility reuse, k = 3 in 30 pixels.
+/// The paper's settings for the unbiased modes: k = 3 in 30 pixels.
 RESTIR_HOST_DEVICE constexpr SpatialParams default_spatial_params() noexcept { return {}; }
 
 /// `coordinate` moved by `offset` rounded to the nearest pixel, for any float and any int: an
@@ -114,23 +111,16 @@ RESTIR_HOST_DEVICE inline DiskOffset neighbour_rotation(float u) noexcept {
 /// The neighbours of a pixel that a spatial pass reuses, as a `ReuseInputs` set for the bias
 /// corrections: neighbour i of the pass (`spatial_neighbour`) lends its reservoir unless it is
 /// the pixel itself, outside the image, a dissimilar surface or non-finite (skipped, not
-/// replaced). Device code streams them: a visit recomputes neighbour i from the pass's start
-/// and rotation and skips it unless bit i of `lends` is set, so that no array of inputs is
-/// kept and a GPU thread holds the set in registers. Host code keeps the lending inputs, in
-/// order, in an array (`packed`): on a CPU, recomputing a neighbour at every visit cost the
-/// spatial pass 20-80 % (`restir_bm_reuse`). Both visit the same inputs in the same order.
-/// With surfaces from a `SurfaceDecoder` the inputs are `DecodedReuseInput`s, streamed on the
-/// host too, and a visit decodes the neighbour's surface.
+/// replaced). The set is streamed: a visit recomputes neighbour i from the pass's start and
+/// rotation and skips it unless bit i of `lends` is set, so that no array of inputs is kept and
+/// a GPU thread holds the set in registers. (Host code gathers the lending inputs into an
+/// array once per combine, `combine_with`.) With surfaces from a `SurfaceDecoder` the inputs
+/// are `DecodedReuseInput`s, and a visit decodes the neighbour's surface.
 template <class Sample, class S, class Surfaces = ImageView<const S>>
 struct SpatialNeighbours {
     /// Whether the surfaces are viewed in an array (inputs point into it).
     static constexpr bool in_array = surfaces_in_array<Surfaces, S>;
     using Input = std::conditional_t<in_array, ReuseInput<Sample, S>, DecodedReuseInput<Sample, S>>;
-#if defined(__CUDA_ARCH__)
-    static constexpr bool packed = false;
-#else
-    static constexpr bool packed = in_array; ///< Every input is non-null and well-formed.
-#endif
 
     PixelCoord centre{};
     std::uint32_t start = 0u;
@@ -142,31 +132,13 @@ struct SpatialNeighbours {
     std::uint32_t count = 0u;                       ///< The neighbours tried.
     std::uint32_t lends = 0u;                       ///< Bit i: neighbour i lends its reservoir.
     std::uint32_t candidate_cap = no_candidate_cap; ///< Caps the M each neighbour lends.
-#if !defined(__CUDA_ARCH__)
-    /// Host code with an array of surfaces: the lending inputs, in order; the first
-    /// `found_count` entries are set. (Plain pointers, left uninitialised beyond that: zeroing
-    /// 15 inputs per pixel showed in the pass.)
-    const Reservoir<Sample>* found_reservoirs[max_reuse_inputs - 1u];
-    const S* found_surfaces[max_reuse_inputs - 1u];
-    std::uint32_t found_count = 0u;
-#endif
 
     /// Neighbour i's pixel.
     RESTIR_HOST_DEVICE constexpr PixelCoord pixel(std::uint32_t i) const {
         return spatial_neighbour(centre, start, i, radius, *offsets, rotation);
     }
-    RESTIR_HOST_DEVICE constexpr std::uint32_t size() const noexcept {
-#if !defined(__CUDA_ARCH__)
-        if constexpr (packed)
-            return found_count;
-#endif
-        return count;
-    }
+    RESTIR_HOST_DEVICE constexpr std::uint32_t size() const noexcept { return count; }
     RESTIR_HOST_DEVICE constexpr Input operator[](std::uint32_t i) const {
-#if !defined(__CUDA_ARCH__)
-        if constexpr (packed)
-            return {found_reservoirs[i], found_surfaces[i]};
-#endif
         if ((lends >> i & 1u) == 0u)
             return {};
         const PixelCoord p = pixel(i);
@@ -201,12 +173,6 @@ find_spatial_neighbours(PixelCoord centre, const S& surface,
             !lends_reservoir(p, surface, reservoirs, surfaces, params.similarity, material_test))
             continue;
         lends |= 1u << i;
-#if !defined(__CUDA_ARCH__)
-        if constexpr (Set::packed) {
-            set.found_reservoirs[set.found_count] = &reservoirs[p];
-            set.found_surfaces[set.found_count++] = &surfaces[p];
-        }
-#endif
     }
     set.centre = centre;
     set.start = start;
@@ -221,7 +187,7 @@ find_spatial_neighbours(PixelCoord centre, const S& surface,
 }
 
 /// Spatial resampling of one pixel: its own reservoir from `reservoirs` combined with its
-/// neighbours' under `params.reuse`, the neighbours streamed (`SpatialNeighbours`). Reads
+/// neighbours' under `reuse`, the neighbours streamed (`SpatialNeighbours`) from `offsets`. Reads
 /// `reservoirs` and `surfaces` only; write the result to a different buffer. A pixel with an
 /// invalid surface keeps its reservoir. Precondition: `pixel` lies in both views (a debug
 /// build checks); outside them the result is empty.
@@ -231,8 +197,9 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
     RESTIR_HOST_DEVICE Reservoir<Sample>
     spatial_resample(PixelCoord pixel, ImageView<const Reservoir<Sample>> reservoirs,
                      ImageView<const S> surfaces, const SpatialParams& params,
-                     const NeighbourOffsets& offsets,
-                     const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng) {
+                     const ReuseParams& reuse,
+                     const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng,
+                     const NeighbourOffsets& offsets = default_neighbour_offsets()) {
     RESTIR_ASSERT(reservoirs.contains(pixel) && surfaces.contains(pixel));
     if (!reservoirs.contains(pixel) || !surfaces.contains(pixel))
         return Reservoir<Sample>{};
@@ -243,7 +210,7 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
     return combine_inputs(own, surface,
                           find_spatial_neighbours(pixel, surface, reservoirs, surfaces, params,
                                                   offsets, bridge.material_test, rng),
-                          params.reuse, bridge, rng);
+                          reuse, bridge, rng);
 }
 
 } // namespace restir

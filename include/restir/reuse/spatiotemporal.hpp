@@ -21,6 +21,8 @@
 
 namespace restir {
 
+namespace detail {
+
 /// The inputs of fused reuse, streamed: slot 0 the history pixel (null when unusable), then
 /// the previous-frame neighbours around it; every one capped at `candidate_cap`.
 template <class Sample, class S>
@@ -36,11 +38,14 @@ struct HistoryAndNeighbours {
     }
 };
 
-/// Fused spatiotemporal resampling of one pixel. `temporal` supplies the bias correction,
-/// similarity, history cap and permutation; `search` the neighbour count and radius
-/// (`SpatialParams::search()`). Every previous-frame reservoir is capped at
-/// `temporal.history_cap_multiplier` times the current M. Without a usable history pixel
-/// (disocclusion) the neighbours around the reprojected position are still reused.
+} // namespace detail
+
+/// Fused spatiotemporal resampling of one pixel in frame `frame_index`. `temporal` supplies the
+/// similarity, history cap and permutation; `spatial` the neighbour count and radius (its
+/// similarity is the temporal one's); `reuse` the bias correction. Every previous-frame
+/// reservoir is capped at `temporal.history_cap_multiplier` times the current M. Without a
+/// usable history pixel (disocclusion) the neighbours around the reprojected position are
+/// still reused.
 template <class Sample, Surface S, Reprojection Reproject, class Target, class Visibility,
           class MaterialTest, UniformRng Rng>
 requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
@@ -48,12 +53,13 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
     spatiotemporal_resample(PixelCoord pixel, const Reservoir<Sample>& current, const S& surface,
                             ImageView<const Reservoir<Sample>> previous_reservoirs,
                             ImageView<const S> previous_surfaces, const Reproject& reproject,
-                            const TemporalParams& temporal, const NeighbourSearch& search,
-                            const NeighbourOffsets& offsets,
-                            const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng) {
+                            const TemporalParams& temporal, const SpatialParams& spatial,
+                            const ReuseParams& reuse, std::uint32_t frame_index,
+                            const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng,
+                            const NeighbourOffsets& offsets = default_neighbour_offsets()) {
     if (!is_valid_surface(surface))
         return current;
-    const PixelCoord previous = history_pixel(reproject(pixel), temporal);
+    const PixelCoord previous = history_pixel(reproject(pixel), temporal, frame_index);
 
     const ReuseInput<Sample, S> history =
         reusable_input(previous, surface, previous_reservoirs, previous_surfaces,
@@ -62,16 +68,38 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
 
     SpatialParams neighbourhood;
     neighbourhood.similarity = temporal.similarity;
-    neighbourhood.radius = search.radius;
+    neighbourhood.radius = spatial.radius;
     neighbourhood.neighbour_count =
-        min_of(search.neighbour_count, max_reuse_inputs - 1u - history_count);
-    // Built in place: a host set's unused entries are left uninitialised, never copied.
-    const HistoryAndNeighbours<Sample, S> inputs{
+        min_of(spatial.neighbour_count, max_reuse_inputs - 1u - history_count);
+    const detail::HistoryAndNeighbours<Sample, S> inputs{
         history,
         find_spatial_neighbours(previous, surface, previous_reservoirs, previous_surfaces,
                                 neighbourhood, offsets, bridge.material_test, rng),
         history_cap(current.candidate_count, temporal)};
-    return combine_inputs(current, surface, inputs, temporal.reuse, bridge, rng);
+    return combine_inputs(current, surface, inputs, reuse, bridge, rng);
+}
+
+/// The fused pass as it was between 0.1 and 0.2, with the neighbour search in a
+/// `NeighbourSearch` and the bias correction in the removed `TemporalParams::reuse`: here
+/// `reuse` and `frame_index` are arguments of their own.
+template <class Sample, Surface S, Reprojection Reproject, class Target, class Visibility,
+          class MaterialTest, UniformRng Rng>
+requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
+    [[deprecated("pass SpatialParams, ReuseParams and the frame index")]] RESTIR_HOST_DEVICE
+    Reservoir<Sample>
+    spatiotemporal_resample(PixelCoord pixel, const Reservoir<Sample>& current, const S& surface,
+                            ImageView<const Reservoir<Sample>> previous_reservoirs,
+                            ImageView<const S> previous_surfaces, const Reproject& reproject,
+                            const TemporalParams& temporal, const NeighbourSearch& search,
+                            const NeighbourOffsets& offsets,
+                            const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng,
+                            const ReuseParams& reuse = {}, std::uint32_t frame_index = 0u) {
+    SpatialParams spatial;
+    spatial.neighbour_count = search.neighbour_count;
+    spatial.radius = search.radius;
+    return spatiotemporal_resample(pixel, current, surface, previous_reservoirs,
+                                   previous_surfaces, reproject, temporal, spatial, reuse,
+                                   frame_index, bridge, rng, offsets);
 }
 
 } // namespace restir

@@ -20,9 +20,9 @@
 
 namespace restir {
 
-/// Settings of temporal reuse.
+/// Where temporal reuse looks and how much it trusts what it finds. (The bias correction and
+/// visibility are a `ReuseParams` of their own, the frame number an argument.)
 struct TemporalParams {
-    ReuseParams reuse{};
     SimilarityParams similarity{};
     /// The history's M is capped at this multiple of the current reservoir's M (the paper's
     /// 20); 0 disables the cap.
@@ -34,11 +34,9 @@ struct TemporalParams {
     /// The pattern XORs this many low bits of each coordinate: the history comes from within
     /// blocks of 2^bits x 2^bits pixels (1: 2 x 2, as in the paper). At most 15.
     std::uint32_t permutation_bits = 1u;
-    /// Frame number, which selects the permutation.
-    std::uint32_t frame_index = 0u;
 };
 
-/// The paper's settings: pairwise MIS, visibility reuse, 25 degrees / 10 %, cap 20.
+/// The paper's settings: 25 degrees / 10 %, cap 20.
 RESTIR_HOST_DEVICE constexpr TemporalParams default_temporal_params() noexcept { return {}; }
 
 /// Where to look up the previous frame: `reproject(pixel)` -> PixelCoord in the previous
@@ -49,10 +47,12 @@ concept Reprojection = requires(const F& reproject, PixelCoord pixel) {
     { reproject(pixel) } -> std::convertible_to<PixelCoord>;
 };
 
-/// The previous-frame pixel that `pixel` reuses: the reprojected one, permuted when
-/// permutation sampling is on (a bijection on blocks of 2^bits x 2^bits pixels).
+/// The previous-frame pixel that `pixel` reuses in frame `frame_index`: the reprojected one,
+/// permuted when permutation sampling is on (a bijection on blocks of 2^bits x 2^bits pixels,
+/// a pattern per frame).
 RESTIR_HOST_DEVICE constexpr PixelCoord history_pixel(PixelCoord reprojected,
-                                                      const TemporalParams& params) noexcept {
+                                                      const TemporalParams& params,
+                                                      std::uint32_t frame_index) noexcept {
     if (!params.permutation_sampling)
         return reprojected;
     // A pattern per frame and per block, so that over the image the history moves along x as
@@ -62,7 +62,7 @@ RESTIR_HOST_DEVICE constexpr PixelCoord history_pixel(PixelCoord reprojected,
     const std::uint64_t block =
         (std::uint64_t{static_cast<std::uint32_t>(reprojected.x) >> bits} << 32u) |
         (static_cast<std::uint32_t>(reprojected.y) >> bits);
-    const std::uint64_t pattern = mix64(params.frame_index ^ mix64(block));
+    const std::uint64_t pattern = mix64(frame_index ^ mix64(block));
     const std::uint32_t mask = (1u << bits) - 1u;
     return {reprojected.x ^ static_cast<std::int32_t>(pattern & mask),
             reprojected.y ^ static_cast<std::int32_t>((pattern >> 32u) & mask)};
@@ -90,20 +90,21 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
     RESTIR_HOST_DEVICE Reservoir<Sample>
     temporal_combine(const Reservoir<Sample>& current, const S& surface,
                      ReuseInput<Sample, S> input, const TemporalParams& params,
+                     const ReuseParams& reuse,
                      const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng) {
     if (input.reservoir == nullptr)
         return current;
     return combine_inputs(
         current, surface,
-        SingleReuseInput<Sample, S>{input, history_cap(current.candidate_count, params)},
-        params.reuse, bridge, rng);
+        SingleReuseInput<Sample, S>{input, history_cap(current.candidate_count, params)}, reuse,
+        bridge, rng);
 }
 
 /// Temporal resampling of one pixel. `current` is the pixel's finalised reservoir for this
 /// frame (initial candidates, possibly visibility-tested) computed for `surface`;
 /// `previous_reservoirs` and `previous_surfaces` are last frame's buffers. Returns the
 /// combined, finalised reservoir; without usable history (disocclusion, dissimilar surface,
-/// non-finite history) it returns `current` unchanged.
+/// non-finite history) it returns `current` unchanged. `frame_index` selects the permutation.
 template <class Sample, Surface S, Reprojection Reproject, class Target, class Visibility,
           class MaterialTest, UniformRng Rng>
 requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
@@ -111,15 +112,17 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
     temporal_resample(PixelCoord pixel, const Reservoir<Sample>& current, const S& surface,
                       ImageView<const Reservoir<Sample>> previous_reservoirs,
                       ImageView<const S> previous_surfaces, const Reproject& reproject,
-                      const TemporalParams& params,
+                      const TemporalParams& params, const ReuseParams& reuse,
+                      std::uint32_t frame_index,
                       const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng) {
     if (!is_valid_surface(surface))
         return current;
-    return temporal_combine(current, surface,
-                            reusable_input(history_pixel(reproject(pixel), params), surface,
-                                           previous_reservoirs, previous_surfaces,
-                                           params.similarity, bridge.material_test),
-                            params, bridge, rng);
+    return temporal_combine(
+        current, surface,
+        reusable_input(history_pixel(reproject(pixel), params, frame_index), surface,
+                       previous_reservoirs, previous_surfaces, params.similarity,
+                       bridge.material_test),
+        params, reuse, bridge, rng);
 }
 
 } // namespace restir

@@ -86,7 +86,7 @@ RESTIR_HOST_DEVICE bool apply_visibility(Reservoir<Sample>& reservoir, bool visi
 /// Final visibility with visibility reuse: when the reservoir's sample is occluded from
 /// `surface`, its contribution weight and weight sum become 0 (it shades nothing and lends
 /// nothing to later reuse) while M and the sample stay. Returns whether the sample is visible.
-/// Reuse passes must then be told (`ReuseParams::visibility_reuse`) so that their MIS weights
+/// Reuse passes must then be told (`ReuseParams::visibility`) so that their MIS weights
 /// test visibility at the neighbours too.
 template <class Sample, Surface S, VisibilityFunction<Sample, S> Visibility>
 RESTIR_HOST_DEVICE bool apply_visibility(Reservoir<Sample>& reservoir, const S& surface,

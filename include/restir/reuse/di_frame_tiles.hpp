@@ -1,0 +1,346 @@
+/// @file reuse/di_frame_tiles.hpp
+/// The frame recipe (reuse/di_frame.hpp) run per tile of pixels with batched visibility: each
+/// stage over a tile gathers the shadow-ray questions it needs (its visibility tests, and the
+/// MIS rays of the reuse passes), the application traces them as one batch through a
+/// `BatchVisibility` (Embree packets, a ray queue), and the stage resolves. The stage order,
+/// the ping-pong and the retest rules are `DiFrame`'s, the same as per pixel. Host code: a tile
+/// keeps its questions and answers in arrays on the stack (about 40 KB).
+#pragma once
+
+#include "restir/config.hpp"
+#include "restir/core/reservoir.hpp"
+#include "restir/reuse/bias_correction.hpp"
+#include "restir/reuse/di_frame.hpp"
+#include "restir/reuse/image_view.hpp"
+#include "restir/reuse/reuse_input.hpp"
+#include "restir/reuse/surface_source.hpp"
+
+#include <concepts>
+#include <cstdint>
+#include <span>
+
+namespace restir {
+
+/// A visibility question: is `*sample` visible from `*surface`? Both point into the recipe's
+/// buffers, valid during the `trace` call that receives them.
+template <class Sample, class S>
+struct VisibilityQuery {
+    const Sample* sample = nullptr;
+    const S* surface = nullptr;
+};
+
+/// Answers many visibility questions at once. Required expression:
+///   `tracer.trace(queries, visible)`: sets `visible[i]` to whether `*queries[i].sample` is
+///   visible from `*queries[i].surface`; both spans have the same size (at least 1).
+template <class T, class Sample, class S>
+concept BatchVisibility = requires(const T& tracer,
+                                   std::span<const VisibilityQuery<Sample, S>> queries,
+                                   std::span<bool> visible) {
+    tracer.trace(queries, visible);
+};
+
+/// A `BatchVisibility` that asks a `VisibilityFunction` one question at a time.
+template <class Visibility>
+struct OneByOne {
+    Visibility visibility;
+    template <class Sample, class S>
+    void trace(std::span<const VisibilityQuery<Sample, S>> queries, std::span<bool> visible) const {
+        for (std::size_t i = 0; i < queries.size(); ++i)
+            visible[i] = visibility(*queries[i].sample, *queries[i].surface);
+    }
+};
+
+/// The most pixels a tile may hold.
+inline constexpr std::uint32_t max_tile_pixels = 64u;
+
+/// A rectangle of pixels, [lower.x, upper.x) x [lower.y, upper.y), of at most
+/// `max_tile_pixels` pixels.
+struct PixelTile {
+    PixelCoord lower{};
+    PixelCoord upper{};
+    constexpr std::uint32_t width() const noexcept {
+        return static_cast<std::uint32_t>(upper.x - lower.x);
+    }
+    constexpr std::uint32_t pixel_count() const noexcept {
+        return width() * static_cast<std::uint32_t>(upper.y - lower.y);
+    }
+    /// Calls `body(pixel, k)` for every pixel in rows, k counting from 0.
+    template <class Body>
+    constexpr void for_each_pixel(Body&& body) const {
+        std::uint32_t k = 0u;
+        for (std::int32_t y = lower.y; y < upper.y; ++y)
+            for (std::int32_t x = lower.x; x < upper.x; ++x)
+                body(PixelCoord{x, y}, k++);
+    }
+};
+
+namespace detail {
+
+/// The questions of one stage over a tile, traced as one batch.
+template <class Sample, class S>
+struct TileQueries {
+    static constexpr std::uint32_t capacity = max_tile_pixels * (max_reuse_inputs - 1u);
+    VisibilityQuery<Sample, S> queries[capacity];
+    bool visible[capacity];
+    std::uint32_t count = 0u;
+
+    std::uint32_t add(const Sample& sample, const S& surface) {
+        RESTIR_ASSERT(count < capacity);
+        queries[count] = {&sample, &surface};
+        return count++;
+    }
+    template <class Tracer>
+    void trace(const Tracer& tracer) {
+        if (count > 0u)
+            tracer.trace(std::span<const VisibilityQuery<Sample, S>>(queries, count),
+                         std::span<bool>(visible, count));
+    }
+};
+
+/// The MIS terms of one pixel traced ahead: p-hat of its own (canonical) sample at each input's
+/// surface, and whether it is visible there (asked only where p-hat > 0).
+template <class Sample, class S>
+struct MisAnswers {
+    static constexpr std::uint32_t none = 0xffffffffu;
+    const Sample* sample = nullptr;
+    const S* surfaces[max_reuse_inputs - 1u];
+    float target[max_reuse_inputs - 1u];
+    std::uint32_t query[max_reuse_inputs - 1u];
+    std::uint32_t count = 0u;
+
+    /// The entry for `x` at `surface`, or `none`.
+    std::uint32_t find(const Sample& x, const S& surface) const {
+        if (sample == nullptr || !(x == *sample))
+            return none;
+        for (std::uint32_t j = 0; j < count; ++j)
+            if (surfaces[j] == &surface)
+                return j;
+        return none;
+    }
+};
+
+/// p-hat from a pixel's answers where they have it, else evaluated.
+template <class Target, class Sample, class S>
+struct AnsweredTarget {
+    const Target* target;
+    const MisAnswers<Sample, S>* answers;
+    float operator()(const Sample& x, const S& surface) const {
+        const std::uint32_t j = answers->find(x, surface);
+        return j != MisAnswers<Sample, S>::none ? answers->target[j]
+                                                : static_cast<float>((*target)(x, surface));
+    }
+};
+
+/// Visibility from a pixel's answers where they have it, else traced on its own.
+template <class Tracer, class Sample, class S>
+struct AnsweredVisibility {
+    const Tracer* tracer;
+    const MisAnswers<Sample, S>* answers;
+    const bool* visible;
+    bool operator()(const Sample& x, const S& surface) const {
+        const std::uint32_t j = answers->find(x, surface);
+        if (j != MisAnswers<Sample, S>::none)
+            return answers->target[j] > 0.0f && visible[answers->query[j]];
+        const VisibilityQuery<Sample, S> query{&x, &surface};
+        bool answer = false;
+        tracer->trace(std::span<const VisibilityQuery<Sample, S>>(&query, 1u),
+                      std::span<bool>(&answer, 1u));
+        return answer;
+    }
+};
+
+/// A stage's reuse over one tile: the inputs found per pixel, their MIS rays traced as one
+/// batch, then every pixel combined with a bridge that answers from them.
+template <class Frame, class Sample, class S, class Target, class Tracer, class MaterialTest>
+struct TileReuse {
+    const Frame& frame;
+    const ReuseBridge<Target, Tracer, MaterialTest>& bridge;
+    TileQueries<Sample, S> queries;
+    MisAnswers<Sample, S> answers[max_tile_pixels];
+
+    TileReuse(const Frame& f, const ReuseBridge<Target, Tracer, MaterialTest>& b)
+        : frame(f), bridge(b) {}
+
+    /// Records the MIS questions of pixel `k`: its sample `canonical` at the surfaces of the
+    /// lending inputs of `inputs` (a `ReuseInputs` set).
+    template <class Inputs>
+    void ask(std::uint32_t k, const Reservoir<Sample>& canonical, const Inputs& inputs) {
+        MisAnswers<Sample, S>& a = answers[k];
+        a.sample = &canonical.sample;
+        const std::uint32_t slots = inputs.size();
+        for (std::uint32_t i = 0; i < slots && a.count + 1u < max_reuse_inputs; ++i) {
+            const auto input = lent_input<Sample, S>(inputs[i]);
+            if (input.reservoir == nullptr || !input.reservoir->is_well_formed())
+                continue;
+            const S& there = lent_surface(input);
+            const float t = static_cast<float>(bridge.target(canonical.sample, there));
+            a.surfaces[a.count] = &there;
+            a.target[a.count] = t;
+            a.query[a.count++] =
+                t > 0.0f ? queries.add(canonical.sample, there) : MisAnswers<Sample, S>::none;
+        }
+    }
+    /// The bridge for pixel `k`'s combination.
+    auto answered(std::uint32_t k) const {
+        return ReuseBridge<AnsweredTarget<Target, Sample, S>, AnsweredVisibility<Tracer, Sample, S>,
+                           MaterialTest>{{&bridge.target, &answers[k]},
+                                         {&bridge.visibility, &answers[k], queries.visible},
+                                         bridge.material_test};
+    }
+    bool asks() const { return traces_mis_rays(frame.params.visibility); }
+};
+
+/// Tests the reservoirs of `output` in `tile` for which `needs(pixel, reservoir)` holds, as
+/// one batch: W = 0 where occluded.
+template <class Sample, class S, class Surfaces, class Tracer, class Needs>
+void test_tile(const PixelTile& tile, ImageView<Reservoir<Sample>> output, const Surfaces& surfaces,
+               const Tracer& tracer, const Needs& needs) {
+    TileQueries<Sample, S> queries;
+    PixelCoord asked[max_tile_pixels];
+    tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t) {
+        const Reservoir<Sample>& r = output[pixel];
+        if (needs(pixel, r)) {
+            asked[queries.count] = pixel;
+            queries.add(r.sample, surfaces[pixel]);
+        }
+    });
+    queries.trace(tracer);
+    for (std::uint32_t q = 0; q < queries.count; ++q)
+        apply_visibility(output[asked[q]], queries.visible[q]);
+}
+
+} // namespace detail
+
+/// Step `step` of `frame` over `tile`, its rays traced in batches through `bridge.visibility`
+/// (a `BatchVisibility`); the other arguments as for `DiFrame::run_pixel`. Every pixel of the
+/// image must finish a step before any starts the next. Needs this frame's surfaces in an
+/// array (`ImageView`), whose addresses the questions carry.
+template <class Sample, Surface S, Reprojection Reproject, class History, class Surfaces,
+          class Initial, class Target, class Tracer, class MaterialTest, class RngFor,
+          class Shade = NoShading>
+requires BatchVisibility<Tracer, Sample, S> && TargetFunction<Target, Sample, S>
+void run_di_step(const DiFrame<Sample, S, Reproject, History, Surfaces>& frame,
+                 const DiStep& step, const PixelTile& tile, const DiBuffers<Sample>& buffers,
+                 const Initial& initial_candidates,
+                 const ReuseBridge<Target, Tracer, MaterialTest>& bridge, const RngFor& rng_for,
+                 const Shade& shade = {}) {
+    static_assert(surfaces_in_array<Surfaces, S>,
+                  "run_di_step needs this frame's surfaces in an ImageView");
+    static_assert(requires(const Sample& a, const Sample& b) {
+        { a == b } -> std::convertible_to<bool>;
+    }, "run_di_step matches MIS answers by sample: Sample needs operator==");
+    RESTIR_ASSERT(tile.pixel_count() <= max_tile_pixels);
+    using Frame = DiFrame<Sample, S, Reproject, History, Surfaces>;
+    const ImageView<Reservoir<Sample>> output = buffers[step.output];
+    const ImageView<const Reservoir<Sample>> input = buffers[step.input];
+    const auto& surfaces = frame.surfaces;
+    const auto retested = [&](PixelCoord pixel, const Reservoir<Sample>& r) {
+        return step.retest && frame.retests(r, input[pixel]);
+    };
+    switch (step.stage) {
+    case DiStage::initial:
+        tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t) {
+            output[pixel] = frame.initial_reservoir(pixel, initial_candidates, rng_for);
+        });
+        detail::test_tile<Sample, S>(tile, output, surfaces, bridge.visibility,
+                                     [&](PixelCoord, const Reservoir<Sample>& r) {
+                                         return frame.tests(r);
+                                     });
+        return;
+    case DiStage::temporal: {
+        detail::TileReuse<Frame, Sample, S, Target, Tracer, MaterialTest> reuse{frame, bridge};
+        decltype(frame.temporal_input(PixelCoord{}, bridge)) found[max_tile_pixels];
+        tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t k) {
+            found[k] = frame.temporal_input(pixel, bridge);
+            ReuseInput<Sample, S> lent{};
+            if constexpr (Frame::loads_history)
+                lent = found[k].lending();
+            else
+                lent = found[k];
+            if (reuse.asks() && input[pixel].has_sample())
+                reuse.ask(k, input[pixel], SingleReuseInput<Sample, S>{lent});
+        });
+        reuse.queries.trace(bridge.visibility);
+        tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t k) {
+            auto rng = rng_for(pixel, RngStream::temporal);
+            output[pixel] = frame.temporal(pixel, input[pixel], found[k], reuse.answered(k), rng);
+        });
+        break;
+    }
+    case DiStage::spatial: {
+        detail::TileReuse<Frame, Sample, S, Target, Tracer, MaterialTest> reuse{frame, bridge};
+        using Rng = decltype(rng_for(PixelCoord{}, 0u));
+        Rng rngs[max_tile_pixels];
+        SpatialNeighbours<Sample, S, Surfaces> sets[max_tile_pixels];
+        tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t k) {
+            rngs[k] = rng_for(pixel, RngStream::spatial + step.pass);
+            sets[k] = {};
+            if (!frame.combines_at(pixel))
+                return;
+            sets[k] = frame.neighbours(pixel, input, bridge, rngs[k]);
+            if (reuse.asks() && input[pixel].has_sample())
+                reuse.ask(k, input[pixel], sets[k]);
+        });
+        reuse.queries.trace(bridge.visibility);
+        tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t k) {
+            output[pixel] = frame.combines_at(pixel)
+                                ? frame.spatial(pixel, input, sets[k], reuse.answered(k), rngs[k])
+                                : input[pixel];
+        });
+        break;
+    }
+    case DiStage::boiling:
+        tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t) {
+            output[pixel] = boiling_filter(pixel, input, frame.params.boiling);
+        });
+        return;
+    case DiStage::finish: {
+        detail::TileQueries<Sample, S> queries;
+        std::uint32_t asked[max_tile_pixels];
+        const bool retests = frame.finish_retests();
+        tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t k) {
+            const Reservoir<Sample>& r = output[pixel];
+            asked[k] = retests && r.has_sample() ? queries.add(r.sample, surfaces[pixel])
+                                                 : detail::MisAnswers<Sample, S>::none;
+        });
+        queries.trace(bridge.visibility);
+        tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t k) {
+            Reservoir<Sample>& r = output[pixel];
+            const bool visible = r.has_sample() && (asked[k] == detail::MisAnswers<Sample, S>::none ||
+                                                    queries.visible[asked[k]]);
+            if (carries_visibility(frame.params.visibility))
+                apply_visibility(r, visible);
+            shade(pixel, static_cast<const Reservoir<Sample>&>(r), visible);
+        });
+        return;
+    }
+    }
+    // The reuse stages: new samples retested before the next pass reads them.
+    if (step.retest)
+        detail::test_tile<Sample, S>(tile, output, surfaces, bridge.visibility, retested);
+}
+
+/// Runs one frame of the recipe, per tile with batched rays. `for_each_tile(step, body)`
+/// calls `body(PixelTile)` for tiles that cover the image once (each of at most
+/// `max_tile_pixels`), in any order or in parallel, and returns when all calls have returned;
+/// it gets the step so that it may order tiles per stage or time each step. The other
+/// arguments as for `run_di_step`.
+template <class Sample, Surface S, Reprojection Reproject, class History, class Surfaces,
+          class ForEachTile, class Initial, class Target, class Tracer, class MaterialTest,
+          class RngFor, class Shade = NoShading>
+requires BatchVisibility<Tracer, Sample, S>
+void run_di_frame(const DiFrame<Sample, S, Reproject, History, Surfaces>& frame,
+                  const DiBuffers<Sample>& buffers, const ForEachTile& for_each_tile,
+                  const Initial& initial_candidates,
+                  const ReuseBridge<Target, Tracer, MaterialTest>& bridge, const RngFor& rng_for,
+                  const Shade& shade = {}) {
+    const std::uint32_t steps = frame.step_count();
+    for (std::uint32_t i = 0; i < steps; ++i) {
+        const DiStep step = frame.step(i);
+        for_each_tile(step, [&](const PixelTile& tile) {
+            run_di_step(frame, step, tile, buffers, initial_candidates, bridge, rng_for, shade);
+        });
+    }
+}
+
+} // namespace restir
