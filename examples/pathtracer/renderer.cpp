@@ -1,6 +1,7 @@
 #include "renderer.hpp"
 
 #include "gbuffer.hpp"
+#include "light_set.hpp"
 #include "pixel_blocks.hpp"
 #include "reservoir.hpp"
 #include "timing.hpp"
@@ -44,30 +45,28 @@ glm::vec3 sample_cosine(glm::vec3 normal, restir::Pcg32& rng) {
 
 } // namespace
 
-using Unified = restir::UnifiedLightSet<TriangleEmitters>;
 // The renderer's state (the scene's BVH and emitters, the light set, the G-buffers and
 // reservoirs of this frame and the last, the images) and its stages.
 struct Renderer::Impl {
     const Scene& scene;
     const RenderSettings settings;
     const EmbreeScene rays;
-    const TriangleEmitters emitters;
     tbb::task_arena arena;
-    const float extent;            // scene_size: the length of the bounding box's diagonal
-    const float ray_offset;        // 1e-4 of the extent
-    const restir::Falloff falloff; // of the VPLs
+    const float extent;     // scene_size: the length of the bounding box's diagonal
+    const float ray_offset; // 1e-4 of the extent
+    // The light set: the emitters and the VPL set of this frame.
+    LightSet light_set;
+    const Unified& lights = light_set.lights();
+    const TriangleEmitters& emitters = light_set.emitters();
+    const std::vector<restir::Vpl>& vpls = light_set.vpls();
+    const restir::AliasTable& light_table = light_set.power_table();
+    const restir::AliasTable& emitter_table = light_set.emitter_table();
+    const restir::AliasTable& vpl_table = light_set.vpl_table();
+    const restir::Falloff& falloff = light_set.falloff();
     PixelBlocks blocks;
     GBuffer gbuffer;
     Camera camera, previous_camera;
 
-    // The light set: the emitters and the VPL set of this frame.
-    std::vector<restir::Vpl> vpls;
-    double photon_ms = 0.0;                       // time of the last photon shooting
-    std::optional<std::uint32_t> photons_per_set; // from the pilot pass of the first set
-    Unified lights;
-    restir::AliasTable light_table;                // unified: emitters + VPLs, by power
-    restir::AliasTable emitter_table;              // emitters only, by power (path tracing NEE)
-    restir::AliasTable vpl_table;                  // VPLs only, by power (reference VPL NEE)
     std::optional<restir::LightBvh> light_bvh;     // unified, by importance (--source bvh)
     std::vector<restir::LightBvhNode> light_nodes; // each light's bounds (--source grid)
     restir::NeighbourOffsets offsets = restir::make_neighbour_offsets();
@@ -85,12 +84,11 @@ struct Renderer::Impl {
 
     // Builds the BVH, the emitters, the first VPL set and the frame buffers.
     Impl(const Scene& s, const RenderSettings& rs)
-        : scene(s), settings(rs), rays(scene), emitters(checked_emitters(scene)),
+        : scene(s), settings(rs), rays(scene),
           arena(settings.threads == 0 ? tbb::task_arena::automatic
                                       : static_cast<int>(settings.threads)),
           extent(scene_size(scene)), ray_offset(1e-4f * extent),
-          falloff(restir::Falloff::yuksel(
-              settings.attenuation_radius > 0.0f ? settings.attenuation_radius : 0.02f * extent)),
+          light_set(scene, rays, settings, arena, ray_offset, extent),
           blocks(settings.width, settings.height, arena),
           gbuffer(scene, rays, blocks, std::size_t{settings.width} * settings.height, ray_offset,
                   settings.antialias, settings.seed),
@@ -98,7 +96,7 @@ struct Renderer::Impl {
           frame_image(settings.width, settings.height),
           accumulated(settings.width, settings.height),
           sum(std::size_t{settings.width} * settings.height, glm::dvec3(0.0)) {
-        shoot_vpls(0u);
+        build_light_bounds();
         const std::size_t pixels = std::size_t{settings.width} * settings.height;
         if (settings.method == Method::restir) {
             reservoirs.resize(pixels);
@@ -110,92 +108,12 @@ struct Renderer::Impl {
         }
     }
 
-    static TriangleEmitters checked_emitters(const Scene& scene) {
-        TriangleEmitters emitters(scene);
-        if (emitters.light_count() == 0)
-            throw SceneError("scene '" + scene.name +
-                             "' has no emitters: give some material a positive Ke");
-        return emitters;
-    }
-
-    // --- The light set: emitters and VPLs ------------------------------------------------
-
-    // Shoots VPL set `generation` (0: the first, from the photons' seed) with --gi vpl, and
-    // rebuilds the light set and its sampling tables.
-    void shoot_vpls(std::uint32_t generation) {
-        if (settings.gi == GlobalIllumination::vpl && settings.vpls > 0) {
-            const auto start = Clock::now();
-            restir::PhotonParams params = settings.photons;
-            params.ray_offset = ray_offset;
-            // Set 0 keeps the seed itself; later sets are independent of it and of each other.
-            params.seed = generation == 0u
-                              ? settings.photons.seed
-                              : restir::mix64(settings.photons.seed ^ restir::mix64(generation));
-            if (!photons_per_set)
-                photons_per_set = pilot_photon_count(params);
-            params.photon_count = *photons_per_set;
-            vpls = params.photon_count > 0u ? shoot_photons(params) : std::vector<restir::Vpl>{};
-            photon_ms = milliseconds_since(start);
-        }
-        build_light_set(generation);
-    }
-
-    // A photon pass (restir::shoot_photons) on the renderer's threads.
-    std::vector<restir::Vpl> shoot_photons(const restir::PhotonParams& params) {
-        const LambertianScatter scatter{&scene};
-        const auto parallel_for = [this](std::uint32_t count, auto&& body) {
-            arena.execute([&] { tbb::parallel_for(0u, count, [&](std::uint32_t i) { body(i); }); });
-        };
-        return restir::shoot_photons(emitters, rays, scatter, params, parallel_for);
-    }
-
-    // Photons per VPL set: a pilot pass measures VPLs per photon, so that the budget gives
-    // about `vpls` VPLs, with at most 64 photons per VPL asked for; a pilot that leaves no VPL
-    // at all (no surface reflects) means no VPLs (0), not a hundred million more photons.
-    std::uint32_t pilot_photon_count(restir::PhotonParams params) {
-        params.photon_count = std::min<std::uint32_t>(settings.vpls, 4096u);
-        const std::size_t pilot = shoot_photons(params).size();
-        const double per_photon = static_cast<double>(pilot) / params.photon_count;
-        return pilot == 0u ? 0u
-                           : static_cast<std::uint32_t>(std::clamp(
-                                 std::ceil(settings.vpls / per_photon), 1.0,
-                                 std::min(4.0e9, 64.0 * static_cast<double>(settings.vpls))));
-    }
-
-    // The emitters and this VPL set as one light set, and its tables: all lights by power
-    // (candidates), the emitters alone and the VPLs alone (path tracing). Throws SceneError
-    // for a shining emitter whose power is no float.
-    void build_light_set(std::uint32_t generation) {
-        lights = Unified{&emitters, vpls.data(), static_cast<std::uint32_t>(vpls.size())};
-        const std::vector<float> powers = restir::unified_light_powers(lights);
-        // unified_light_powers gives a power that overflows a float as 0; a shining emitter
-        // with power 0 would never be sampled (and alone gives "all weights are zero").
-        // Emitters do not change between VPL sets: checked once.
-        for (std::uint32_t e = 0; generation == 0u && e < emitters.light_count(); ++e) {
-            const glm::vec3 radiance = emitters.radiance(e);
-            if (!(powers[e] > 0.0f) && radiance.x + radiance.y + radiance.z > 0.0f)
-                throw SceneError("emitter " + std::to_string(e) + " of scene '" + scene.name +
-                                 "' has no float power: too bright (lower its Ke) or too small");
-        }
-        light_table.build(powers);
-        if (settings.source == CandidateSource::bvh || settings.source == CandidateSource::grid)
-            build_light_bounds(powers);
-        emitter_table.build(std::span<const float>(powers.data(), emitters.light_count()));
-        if (!vpls.empty())
-            vpl_table.build(
-                std::span<const float>(powers.data() + emitters.light_count(), vpls.size()));
-    }
-
     // The unified set's emission bounds (emitters as area lights, VPLs as cosine emitters):
     // the light BVH over them (bvh), or each light's own (grid).
-    void build_light_bounds(const std::vector<float>& powers) {
-        std::vector<restir::LightBounds> bounds;
-        bounds.reserve(powers.size());
-        for (std::uint32_t e = 0; e < emitters.light_count(); ++e)
-            bounds.push_back(emitters.bounds(e, powers[e]));
-        for (std::uint32_t v = 0; v < vpls.size(); ++v)
-            bounds.push_back(restir::point_light_bounds(vpls[v].position, vpls[v].normal,
-                                                        powers[emitters.light_count() + v]));
+    void build_light_bounds() {
+        if (settings.source != CandidateSource::bvh && settings.source != CandidateSource::grid)
+            return;
+        const std::vector<restir::LightBounds> bounds = light_set.light_bounds();
         if (settings.source == CandidateSource::bvh) {
             light_bvh.emplace(bounds);
             return;
@@ -868,7 +786,9 @@ struct Renderer::Impl {
 
     // --- Path tracing ----------------------------------------------------------------------
     // Emitters by power with MIS against cosine sampling; VPLs by power (no MIS: delta).
-    glm::vec3 emitter_nee(const GSurface& s, restir::Pcg32& rng) const {
+    // Kept inline in path_radiance: the compiler fuses multiplies and adds across the call
+    // (FMA), so the image's last bits depend on it.
+    [[gnu::always_inline]] glm::vec3 emitter_nee(const GSurface& s, restir::Pcg32& rng) const {
         const restir::DiscreteSample c =
             restir::sample_light(restir::PowerLightSampler{emitter_table.view()}, rng);
         const float u = next_float(rng);
@@ -955,7 +875,7 @@ struct Renderer::Impl {
         const auto frame_start = Clock::now();
         const bool new_vpl_set = reshoot_vpls();
         if (frames_rendered == 0 || new_vpl_set)
-            t.photons = photon_ms;
+            t.photons = light_set.photon_ms();
         if (settings.motion == CameraMotion::orbit)
             orbit_camera(frames_rendered);
         if (settings.method == Method::restir)
@@ -968,14 +888,10 @@ struct Renderer::Impl {
     }
 
     // A new VPL set every `vpl_reshoot_interval` frames: true when this frame shot one.
-    // Temporal reuse skips that frame (as after a camera cut): the history's samples belong to
-    // the old set, which is not this frame's integrand (docs/noise-and-bias.md).
     bool reshoot_vpls() {
-        const std::uint32_t interval = settings.vpl_reshoot_interval;
-        const bool new_vpl_set =
-            frames_rendered > 0 && interval > 0 && frames_rendered % interval == 0;
+        const bool new_vpl_set = light_set.reshoot_vpls(frames_rendered);
         if (new_vpl_set)
-            shoot_vpls(frames_rendered / interval);
+            build_light_bounds();
         return new_vpl_set;
     }
 
@@ -1109,7 +1025,9 @@ FrameTimings Renderer::render_frame() { return impl_->render_frame(); }
 const Image& Renderer::accumulated() const { return impl_->accumulated; }
 const Image& Renderer::last_frame() const { return impl_->frame_image; }
 std::uint32_t Renderer::frames_rendered() const { return impl_->frames_rendered; }
-std::uint32_t Renderer::photons_per_set() const { return impl_->photons_per_set.value_or(0u); }
+std::uint32_t Renderer::photons_per_set() const {
+    return impl_->light_set.photons_per_set().value_or(0u);
+}
 const std::vector<restir::Vpl>& Renderer::vpls() const { return impl_->vpls; }
 std::uint32_t Renderer::emitter_count() const { return impl_->emitters.light_count(); }
 

@@ -1,0 +1,119 @@
+#include "light_set.hpp"
+
+#include "scatter.hpp"
+#include "timing.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <span>
+#include <string>
+
+namespace pt {
+
+namespace {
+
+TriangleEmitters checked_emitters(const Scene& scene) {
+    TriangleEmitters emitters(scene);
+    if (emitters.light_count() == 0)
+        throw SceneError("scene '" + scene.name +
+                         "' has no emitters: give some material a positive Ke");
+    return emitters;
+}
+
+} // namespace
+
+LightSet::LightSet(const Scene& scene, const EmbreeScene& rays, const RenderSettings& settings,
+                   tbb::task_arena& arena, float ray_offset, float extent)
+    : scene_(scene), rays_(rays), settings_(settings), arena_(arena), ray_offset_(ray_offset),
+      falloff_(restir::Falloff::yuksel(
+          settings.attenuation_radius > 0.0f ? settings.attenuation_radius : 0.02f * extent)),
+      emitters_(checked_emitters(scene)) {
+    shoot_vpls(0u);
+}
+
+bool LightSet::reshoot_vpls(std::uint32_t frame) {
+    const std::uint32_t interval = settings_.vpl_reshoot_interval;
+    const bool new_vpl_set = frame > 0 && interval > 0 && frame % interval == 0;
+    if (new_vpl_set)
+        shoot_vpls(frame / interval);
+    return new_vpl_set;
+}
+
+// Shoots VPL set `generation` (0: the first, from the photons' seed) with --gi vpl, and
+// rebuilds the light set and its sampling tables.
+void LightSet::shoot_vpls(std::uint32_t generation) {
+    if (settings_.gi == GlobalIllumination::vpl && settings_.vpls > 0) {
+        const auto start = Clock::now();
+        restir::PhotonParams params = settings_.photons;
+        params.ray_offset = ray_offset_;
+        // Set 0 keeps the seed itself; later sets are independent of it and of each other.
+        params.seed = generation == 0u
+                          ? settings_.photons.seed
+                          : restir::mix64(settings_.photons.seed ^ restir::mix64(generation));
+        if (!photons_per_set_)
+            photons_per_set_ = pilot_photon_count(params);
+        params.photon_count = *photons_per_set_;
+        vpls_ = params.photon_count > 0u ? shoot_photons(params) : std::vector<restir::Vpl>{};
+        photon_ms_ = milliseconds_since(start);
+    }
+    build_light_set(generation);
+}
+
+// A photon pass (restir::shoot_photons) on the renderer's threads.
+std::vector<restir::Vpl> LightSet::shoot_photons(const restir::PhotonParams& params) {
+    const LambertianScatter scatter{&scene_};
+    const auto parallel_for = [this](std::uint32_t count, auto&& body) {
+        arena_.execute([&] { tbb::parallel_for(0u, count, [&](std::uint32_t i) { body(i); }); });
+    };
+    return restir::shoot_photons(emitters_, rays_, scatter, params, parallel_for);
+}
+
+// Photons per VPL set: a pilot pass measures VPLs per photon, so that the budget gives about
+// `vpls` VPLs, with at most 64 photons per VPL asked for; a pilot that leaves no VPL at all (no
+// surface reflects) means no VPLs (0), not a hundred million more photons.
+std::uint32_t LightSet::pilot_photon_count(restir::PhotonParams params) {
+    params.photon_count = std::min<std::uint32_t>(settings_.vpls, 4096u);
+    const std::size_t pilot = shoot_photons(params).size();
+    const double per_photon = static_cast<double>(pilot) / params.photon_count;
+    return pilot == 0u ? 0u
+                       : static_cast<std::uint32_t>(std::clamp(
+                             std::ceil(settings_.vpls / per_photon), 1.0,
+                             std::min(4.0e9, 64.0 * static_cast<double>(settings_.vpls))));
+}
+
+// The emitters and this VPL set as one light set, and its tables. Throws SceneError for a
+// shining emitter whose power is no float.
+void LightSet::build_light_set(std::uint32_t generation) {
+    lights_ = Unified{&emitters_, vpls_.data(), static_cast<std::uint32_t>(vpls_.size())};
+    const std::vector<float> powers = restir::unified_light_powers(lights_);
+    // unified_light_powers gives a power that overflows a float as 0; a shining emitter with
+    // power 0 would never be sampled (and alone gives "all weights are zero"). Emitters do not
+    // change between VPL sets: checked once.
+    for (std::uint32_t e = 0; generation == 0u && e < emitters_.light_count(); ++e) {
+        const glm::vec3 radiance = emitters_.radiance(e);
+        if (!(powers[e] > 0.0f) && radiance.x + radiance.y + radiance.z > 0.0f)
+            throw SceneError("emitter " + std::to_string(e) + " of scene '" + scene_.name +
+                             "' has no float power: too bright (lower its Ke) or too small");
+    }
+    light_table_.build(powers);
+    emitter_table_.build(std::span<const float>(powers.data(), emitters_.light_count()));
+    if (!vpls_.empty())
+        vpl_table_.build(
+            std::span<const float>(powers.data() + emitters_.light_count(), vpls_.size()));
+}
+
+std::vector<restir::LightBounds> LightSet::light_bounds() const {
+    const std::vector<float> powers = restir::unified_light_powers(lights_);
+    std::vector<restir::LightBounds> bounds;
+    bounds.reserve(powers.size());
+    for (std::uint32_t e = 0; e < emitters_.light_count(); ++e)
+        bounds.push_back(emitters_.bounds(e, powers[e]));
+    for (std::uint32_t v = 0; v < vpls_.size(); ++v)
+        bounds.push_back(restir::point_light_bounds(vpls_[v].position, vpls_[v].normal,
+                                                    powers[emitters_.light_count() + v]));
+    return bounds;
+}
+
+} // namespace pt

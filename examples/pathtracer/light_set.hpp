@@ -1,0 +1,81 @@
+// The light set: the scene's emitters and the VPLs of photon mapping as one
+// restir::UnifiedLightSet, the VPLs reshot every few frames, and its sampling tables.
+#pragma once
+
+#include "embree_scene.hpp"
+#include "lights.hpp"
+#include "renderer.hpp"
+#include "scene.hpp"
+
+#include <restir/restir.hpp>
+
+#include <tbb/task_arena.h>
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+namespace pt {
+
+/// Emitters first (ids [0, emitter count)), then this set's VPLs.
+using Unified = restir::UnifiedLightSet<TriangleEmitters>;
+
+/// The emitters and the VPL set of this frame, with power tables over all of them, the
+/// emitters alone and the VPLs alone.
+class LightSet {
+public:
+    /// Shoots the first VPL set (with --gi vpl). Throws SceneError for a scene without
+    /// emitters, or with a shining emitter whose power is no float. `ray_offset`: how far
+    /// photon rays start off surfaces; `extent`: the scene's size (the VPLs' falloff radius).
+    LightSet(const Scene& scene, const EmbreeScene& rays, const RenderSettings& settings,
+             tbb::task_arena& arena, float ray_offset, float extent);
+    LightSet(const LightSet&) = delete;
+    LightSet& operator=(const LightSet&) = delete;
+
+    /// A new VPL set every `vpl_reshoot_interval` frames: true when frame `frame` shot one.
+    /// Temporal reuse skips that frame (as after a camera cut): the history's samples belong to
+    /// the old set, which is not this frame's integrand (docs/noise-and-bias.md).
+    bool reshoot_vpls(std::uint32_t frame);
+
+    /// All lights, emitters then VPLs.
+    const Unified& lights() const { return lights_; }
+    const TriangleEmitters& emitters() const { return emitters_; }
+    const std::vector<restir::Vpl>& vpls() const { return vpls_; }
+    /// All lights by power (candidates).
+    const restir::AliasTable& power_table() const { return light_table_; }
+    /// The emitters alone by power (path tracing NEE).
+    const restir::AliasTable& emitter_table() const { return emitter_table_; }
+    /// The VPLs alone by power (the reference's VPL NEE); empty without VPLs.
+    const restir::AliasTable& vpl_table() const { return vpl_table_; }
+    /// The VPLs' distance falloff.
+    const restir::Falloff& falloff() const { return falloff_; }
+    /// Every light's emission bounds (emitters as area lights, VPLs as cosine emitters), in
+    /// light id order: for a light BVH or per-light bounds.
+    std::vector<restir::LightBounds> light_bounds() const;
+
+    /// Milliseconds the last photon shooting took.
+    double photon_ms() const { return photon_ms_; }
+    /// Photons per VPL set, from the pilot pass of the first set (none without VPLs).
+    std::optional<std::uint32_t> photons_per_set() const { return photons_per_set_; }
+
+private:
+    void shoot_vpls(std::uint32_t generation);
+    std::vector<restir::Vpl> shoot_photons(const restir::PhotonParams& params);
+    std::uint32_t pilot_photon_count(restir::PhotonParams params);
+    void build_light_set(std::uint32_t generation);
+
+    const Scene& scene_;
+    const EmbreeScene& rays_;
+    const RenderSettings& settings_;
+    tbb::task_arena& arena_;
+    const float ray_offset_;
+    const restir::Falloff falloff_;
+    const TriangleEmitters emitters_;
+    std::vector<restir::Vpl> vpls_;
+    double photon_ms_ = 0.0;
+    std::optional<std::uint32_t> photons_per_set_;
+    Unified lights_;
+    restir::AliasTable light_table_, emitter_table_, vpl_table_;
+};
+
+} // namespace pt
