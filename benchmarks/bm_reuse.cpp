@@ -193,7 +193,7 @@ struct Scene {
     std::vector<PointLight> lights;
     std::vector<GSurface> previous_surfaces, current_surfaces;
     std::vector<Reservoir<LightSampleRef>> previous_reservoirs, current_reservoirs;
-    restir::NeighbourOffsets offsets = restir::make_neighbour_offsets();
+    const restir::NeighbourOffsets& offsets = restir::default_neighbour_offsets();
 
     restir::ImageView<const GSurface> previous_surface_view() const {
         return {previous_surfaces.data(), kWidth, kHeight};
@@ -249,30 +249,36 @@ const Scene& scene() {
     return instance;
 }
 
-restir::TemporalParams temporal_params(BiasCorrection mode) {
-    restir::TemporalParams params = restir::default_temporal_params();
-    params.reuse.bias_correction = mode;
-    return params;
+// A pass's settings: where it looks, and how it weighs (visibility reuse with traced MIS rays).
+template <class Params>
+struct PassSettings {
+    Params params;
+    restir::ReuseParams reuse;
+};
+
+PassSettings<restir::TemporalParams> temporal_params(BiasCorrection mode) {
+    return {restir::default_temporal_params(), {mode}};
 }
 
 template <bool Counting>
 Reservoir<LightSampleRef> temporal_pixel(const Scene& s, std::uint32_t index,
-                                         const restir::TemporalParams& params,
+                                         const PassSettings<restir::TemporalParams>& settings,
                                          const Bridge<Counting>& bridge) {
     restir::Pcg32 rng = restir::make_pixel_rng(index, kCurrentFrame, restir::RngStream::temporal);
     return restir::temporal_resample(pixel_at(index), s.current_reservoirs[index],
                                      s.current_surfaces[index], s.previous_reservoir_view(),
-                                     s.previous_surface_view(), PanReprojection{}, params, bridge,
-                                     rng);
+                                     s.previous_surface_view(), PanReprojection{}, settings.params,
+                                     settings.reuse, kCurrentFrame, bridge, rng);
 }
 
 template <bool Counting>
 Reservoir<LightSampleRef> spatial_pixel(const Scene& s, std::uint32_t index,
-                                        const restir::SpatialParams& params,
+                                        const PassSettings<restir::SpatialParams>& settings,
                                         const Bridge<Counting>& bridge) {
     restir::Pcg32 rng = restir::make_pixel_rng(index, kCurrentFrame, restir::RngStream::spatial);
     return restir::spatial_resample(pixel_at(index), s.current_reservoir_view(),
-                                    s.current_surface_view(), params, s.offsets, bridge, rng);
+                                    s.current_surface_view(), settings.params, settings.reuse,
+                                    bridge, rng, s.offsets);
 }
 
 // Runs `pass(index, bridge)` once for every pixel with counting functors and reports the
@@ -293,7 +299,7 @@ void count_calls(benchmark::State& state, const Scene& s, const Pass& pass) {
 
 void BM_Temporal(benchmark::State& state, BiasCorrection mode) {
     const Scene& s = scene();
-    const restir::TemporalParams params = temporal_params(mode);
+    const PassSettings<restir::TemporalParams> params = temporal_params(mode);
     const Bridge<false> bridge = make_bridge<false>(s.lights.data(), nullptr);
     std::uint32_t pixel = 0u;
     for (auto _ : state) {
@@ -314,9 +320,8 @@ BENCHMARK_CAPTURE(BM_Temporal, pairwise, BiasCorrection::pairwise);
 // range(0) = k, the neighbours tried per pixel.
 void BM_Spatial(benchmark::State& state, BiasCorrection mode) {
     const Scene& s = scene();
-    restir::SpatialParams params = restir::default_spatial_params();
-    params.reuse.bias_correction = mode;
-    params.neighbour_count = static_cast<std::uint32_t>(state.range(0));
+    PassSettings<restir::SpatialParams> params{restir::default_spatial_params(), {mode}};
+    params.params.neighbour_count = static_cast<std::uint32_t>(state.range(0));
     const Bridge<false> bridge = make_bridge<false>(s.lights.data(), nullptr);
     std::uint32_t pixel = 0u;
     for (auto _ : state) {

@@ -84,14 +84,14 @@ RESTIR_HOST_DEVICE PixelResult reuse_pixel(std::uint32_t pixel, const float* lig
     restir::SpatialParams params = restir::default_spatial_params();
     params.radius = 5.0f;
     params.neighbour_count = 4u;
-    params.reuse.bias_correction =
-        pairwise ? restir::BiasCorrection::pairwise : restir::BiasCorrection::balance_heuristic;
-    constexpr restir::NeighbourOffsets offsets = restir::make_neighbour_offsets();
+    const restir::ReuseParams reuse{pairwise ? restir::BiasCorrection::pairwise
+                                             : restir::BiasCorrection::balance_heuristic};
     const restir::ReuseBridge bridge{LineTarget{light_x}, HalfBlocked{}};
     restir::Pcg32 rng = restir::make_pixel_rng(pixel, 4u, 2u, 2024u);
     const restir::PixelCoord p{static_cast<std::int32_t>(pixel % image_side),
                                static_cast<std::int32_t>(pixel / image_side)};
-    const auto r = restir::spatial_resample(p, view, surfaces, params, offsets, bridge, rng);
+    // The library's offset table: constant memory on the device, static storage on the host.
+    const auto r = restir::spatial_resample(p, view, surfaces, params, reuse, bridge, rng);
     return {r.sample.light, r.contribution_weight, r.candidate_count};
 }
 

@@ -219,8 +219,7 @@ __global__ void reuse_kernel(const glm::vec3* light_positions, const GBufferTexe
                              const restir::Reservoir<restir::LightSampleRef>* previous,
                              restir::Reservoir<restir::LightSampleRef>* temporal_out,
                              restir::Reservoir<restir::LightSampleRef>* spatial_out,
-                             std::uint32_t width, std::uint32_t height,
-                             restir::NeighbourOffsets offsets) {
+                             std::uint32_t width, std::uint32_t height) {
     const auto x = static_cast<std::int32_t>(blockIdx.x * blockDim.x + threadIdx.x);
     const auto y = static_cast<std::int32_t>(blockIdx.y * blockDim.y + threadIdx.y);
     const restir::ImageView<const GBufferTexel> surfaces{texels, width, height};
@@ -234,15 +233,16 @@ __global__ void reuse_kernel(const glm::vec3* light_positions, const GBufferTexe
     restir::Reservoir<restir::LightSampleRef> current = history[{x, y}];
     restir::apply_visibility(current, texels[index], bridge.visibility);
     const restir::TemporalParams temporal = restir::default_temporal_params();
-    restir::SpatialParams spatial = restir::default_spatial_params();
-    spatial.reuse.bias_correction = restir::BiasCorrection::balance_heuristic;
-    temporal_out[index] = restir::temporal_resample(
-        {x, y}, current, texels[index], history, surfaces, StaticCamera{}, temporal, bridge, rng);
+    const restir::SpatialParams spatial = restir::default_spatial_params();
+    const restir::ReuseParams reuse{restir::BiasCorrection::balance_heuristic};
+    temporal_out[index] =
+        restir::temporal_resample({x, y}, current, texels[index], history, surfaces,
+                                  StaticCamera{}, temporal, reuse, 1u, bridge, rng);
     spatial_out[index] = restir::spatiotemporal_resample({x, y}, current, texels[index], history,
                                                          surfaces, StaticCamera{}, temporal,
-                                                         spatial.search(), offsets, bridge, rng);
+                                                         spatial, reuse, 1u, bridge, rng);
     spatial_out[index] =
-        restir::spatial_resample({x, y}, history, surfaces, spatial, offsets, bridge, rng);
+        restir::spatial_resample({x, y}, history, surfaces, spatial, reuse, bridge, rng);
     spatial_out[index] =
         restir::boiling_filter({x, y}, history, restir::default_boiling_filter_params());
 }
@@ -258,44 +258,80 @@ __device__ bool recipe_pixel(const Frame& frame, restir::PixelCoord& pixel) {
     return frame.surfaces.contains(pixel);
 }
 
-// Stages 1 and 2: initial candidates (RIS), visibility, temporal reuse; with the history as a
-// view of reservoirs, or packed with its light ids translated (a light list rebuilt).
-template <class Frame>
-__global__ void recipe_initial_temporal_kernel(Frame frame, const glm::vec3* light_positions,
-                                               std::uint32_t light_count,
-                                               restir::ImageView<RecipeReservoir> out) {
+// The recipe's collaborators on the device: initial candidates by RIS, a generator per pixel
+// and stream, and shading that packs the final reservoir as the next frame's history.
+struct InitialRis {
+    const glm::vec3* light_positions = nullptr;
+    std::uint32_t light_count = 0u;
+    __device__ RecipeReservoir operator()(restir::PixelCoord, const GBufferTexel& s,
+                                          restir::Pcg32& rng) const {
+        return restir::resample_ris(rng, 32u, UniformDraw{light_count},
+                                    DistanceTarget{light_positions, surface_position(s)});
+    }
+};
+struct PixelRngs {
+    std::uint32_t frame = 0u, width = 0u;
+    __device__ restir::Pcg32 operator()(restir::PixelCoord p, std::uint32_t stream) const {
+        return restir::make_pixel_rng(static_cast<std::uint32_t>(p.x) +
+                                          static_cast<std::uint32_t>(p.y) * width,
+                                      frame, stream);
+    }
+};
+struct PackAsHistory {
+    restir::ImageView<restir::PackedReservoir> history{};
+    __device__ void operator()(restir::PixelCoord p, const RecipeReservoir& r, bool) const {
+        history[p] = restir::pack_reservoir(r);
+    }
+};
+
+// One step of the frame at a pixel, compiled for stage `Stage` only.
+template <restir::DiStage Stage, class Frame, class Shade = restir::NoShading>
+__global__ void recipe_step_kernel(Frame frame, restir::DiStep step,
+                                   const glm::vec3* light_positions, std::uint32_t light_count,
+                                   restir::DiBuffers<restir::LightSampleRef> buffers,
+                                   Shade shade = {}) {
     restir::PixelCoord pixel;
     if (!recipe_pixel(frame, pixel))
         return;
-    const std::uint32_t index = out.index_of(pixel);
     const restir::ReuseBridge bridge{SurfaceTarget{light_positions}, HeightVisibility{}};
-    restir::Pcg32 rng =
-        restir::make_pixel_rng(index, frame.frame_index, restir::RngStream::initial);
-    const DistanceTarget target{light_positions,
-                                surface_position(restir::surface_at(frame.surfaces, pixel))};
-    RecipeReservoir r = frame.initial(
-        pixel, restir::resample_ris(rng, 32u, UniformDraw{light_count}, target), bridge.visibility);
-    rng = restir::make_pixel_rng(index, frame.frame_index, restir::RngStream::temporal);
-    out[pixel] = frame.temporal(pixel, r, bridge, rng);
+    frame.template run_stage<Stage>(step, pixel, buffers, InitialRis{light_positions, light_count},
+                                    bridge, PixelRngs{frame.frame_index, buffers.out.width},
+                                    shade);
 }
 
-// Stage 3: one spatial pass.
-template <class Frame>
-__global__ void recipe_spatial_kernel(Frame frame, const glm::vec3* light_positions,
-                                      restir::ImageView<const RecipeReservoir> in,
-                                      restir::ImageView<RecipeReservoir> out, std::uint32_t pass) {
-    restir::PixelCoord pixel;
-    if (!recipe_pixel(frame, pixel))
-        return;
-    const restir::ReuseBridge bridge{SurfaceTarget{light_positions}, HeightVisibility{}};
-    restir::Pcg32 rng = restir::make_pixel_rng(out.index_of(pixel), frame.frame_index,
-                                               restir::RngStream::spatial + pass);
-    out[pixel] = frame.spatial(pixel, pass, in, bridge, rng);
+// The whole frame as a GPU renderer runs it: the recipe's steps in order, a kernel each.
+template <class Frame, class Shade = restir::NoShading>
+void launch_recipe(const Frame& frame, const glm::vec3* light_positions,
+                   std::uint32_t light_count, restir::DiBuffers<restir::LightSampleRef> buffers,
+                   Shade shade = {}) {
+    const dim3 block(8u, 8u);
+    const dim3 grid((buffers.out.width + 7u) / 8u, (buffers.out.height + 7u) / 8u);
+    for (std::uint32_t i = 0; i < frame.step_count(); ++i) {
+        const restir::DiStep s = frame.step(i);
+        switch (s.stage) {
+        case restir::DiStage::initial:
+            recipe_step_kernel<restir::DiStage::initial><<<grid, block>>>(
+                frame, s, light_positions, light_count, buffers);
+            break;
+        case restir::DiStage::temporal:
+            recipe_step_kernel<restir::DiStage::temporal><<<grid, block>>>(
+                frame, s, light_positions, light_count, buffers);
+            break;
+        case restir::DiStage::spatial:
+            recipe_step_kernel<restir::DiStage::spatial><<<grid, block>>>(
+                frame, s, light_positions, light_count, buffers);
+            break;
+        case restir::DiStage::boiling:
+            recipe_step_kernel<restir::DiStage::boiling><<<grid, block>>>(
+                frame, s, light_positions, light_count, buffers);
+            break;
+        case restir::DiStage::finish:
+            recipe_step_kernel<restir::DiStage::finish><<<grid, block>>>(
+                frame, s, light_positions, light_count, buffers, shade);
+            break;
+        }
+    }
 }
-template __global__ void
-recipe_spatial_kernel<RecipeFrame>(RecipeFrame, const glm::vec3*,
-                                   restir::ImageView<const RecipeReservoir>,
-                                   restir::ImageView<RecipeReservoir>, std::uint32_t);
 
 // A light list that moved every light one place down and removed the first.
 struct LightIdShift {
@@ -305,11 +341,12 @@ struct LightIdShift {
 };
 using PackedRecipeFrame = restir::DiFrame<restir::LightSampleRef, GBufferTexel, StaticCamera,
                                           restir::PackedHistory<LightIdShift>>;
-template __global__ void
-recipe_initial_temporal_kernel<RecipeFrame>(RecipeFrame, const glm::vec3*, std::uint32_t,
-                                            restir::ImageView<RecipeReservoir>);
-template __global__ void recipe_initial_temporal_kernel<PackedRecipeFrame>(
-    PackedRecipeFrame, const glm::vec3*, std::uint32_t, restir::ImageView<RecipeReservoir>);
+template void launch_recipe<RecipeFrame>(const RecipeFrame&, const glm::vec3*, std::uint32_t,
+                                         restir::DiBuffers<restir::LightSampleRef>,
+                                         restir::NoShading);
+template void launch_recipe<PackedRecipeFrame, PackAsHistory>(
+    const PackedRecipeFrame&, const glm::vec3*, std::uint32_t,
+    restir::DiBuffers<restir::LightSampleRef>, PackAsHistory);
 
 // A packed history that also decodes last frame's surfaces (here: reads them from an array;
 // a renderer would decode its own G-buffer), so the frame has no previous-surface view.
@@ -321,8 +358,9 @@ struct DecodingPackedHistory : restir::PackedHistory<> {
 };
 using DecodingRecipeFrame =
     restir::DiFrame<restir::LightSampleRef, GBufferTexel, StaticCamera, DecodingPackedHistory>;
-template __global__ void recipe_initial_temporal_kernel<DecodingRecipeFrame>(
-    DecodingRecipeFrame, const glm::vec3*, std::uint32_t, restir::ImageView<RecipeReservoir>);
+template void launch_recipe<DecodingRecipeFrame, PackAsHistory>(
+    const DecodingRecipeFrame&, const glm::vec3*, std::uint32_t,
+    restir::DiBuffers<restir::LightSampleRef>, PackAsHistory);
 
 // This frame's surfaces decoded from a compact G-buffer (depth and an octahedral normal in 16
 // bits per coordinate, the position from the pixel and the depth), so that the frame keeps no
@@ -351,33 +389,9 @@ struct CompactGBuffer {
 static_assert(restir::SurfaceDecoder<CompactGBuffer, GBufferTexel>);
 using ArrayFreeRecipeFrame = restir::DiFrame<restir::LightSampleRef, GBufferTexel, StaticCamera,
                                              DecodingPackedHistory, CompactGBuffer>;
-template __global__ void recipe_initial_temporal_kernel<ArrayFreeRecipeFrame>(
-    ArrayFreeRecipeFrame, const glm::vec3*, std::uint32_t, restir::ImageView<RecipeReservoir>);
-template __global__ void
-recipe_spatial_kernel<ArrayFreeRecipeFrame>(ArrayFreeRecipeFrame, const glm::vec3*,
-                                            restir::ImageView<const RecipeReservoir>,
-                                            restir::ImageView<RecipeReservoir>, std::uint32_t);
-
-// Stages 4 and 5 into packed storage: boiling filter, final visibility, packed as the next
-// frame's history.
-__global__ void recipe_finish_packed_kernel(RecipeFrame frame,
-                                            restir::ImageView<const RecipeReservoir> in,
-                                            restir::ImageView<restir::PackedReservoir> history) {
-    restir::PixelCoord pixel;
-    if (!recipe_pixel(frame, pixel))
-        return;
-    history[pixel] =
-        restir::pack_reservoir(frame.finish(pixel, frame.boiling(pixel, in), HeightVisibility{}));
-}
-
-// Stages 4 and 5: boiling filter, final visibility (the next frame's history).
-__global__ void recipe_finish_kernel(RecipeFrame frame, restir::ImageView<const RecipeReservoir> in,
-                                     restir::ImageView<RecipeReservoir> history) {
-    restir::PixelCoord pixel;
-    if (!recipe_pixel(frame, pixel))
-        return;
-    history[pixel] = frame.finish(pixel, frame.boiling(pixel, in), HeightVisibility{});
-}
+template void launch_recipe<ArrayFreeRecipeFrame, PackAsHistory>(
+    const ArrayFreeRecipeFrame&, const glm::vec3*, std::uint32_t,
+    restir::DiBuffers<restir::LightSampleRef>, PackAsHistory);
 
 __global__ void ris_kernel(const glm::vec3* light_positions, std::uint32_t light_count,
                            const restir::AliasEntry* alias_entries, float* out) {

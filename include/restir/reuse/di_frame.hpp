@@ -248,37 +248,59 @@ requires(std::same_as<History, ImageView<const Reservoir<Sample>>> ||
                                           const Initial& initial_candidates,
                                           const ReuseBridge<Target, Visibility, MaterialTest>& bridge,
                                           const RngFor& rng_for, const Shade& shade = {}) const {
+        switch (step.stage) {
+        case DiStage::initial:
+            return run_stage<DiStage::initial>(step, pixel, buffers, initial_candidates, bridge,
+                                               rng_for, shade);
+        case DiStage::temporal:
+            return run_stage<DiStage::temporal>(step, pixel, buffers, initial_candidates, bridge,
+                                                rng_for, shade);
+        case DiStage::spatial:
+            return run_stage<DiStage::spatial>(step, pixel, buffers, initial_candidates, bridge,
+                                               rng_for, shade);
+        case DiStage::boiling:
+            return run_stage<DiStage::boiling>(step, pixel, buffers, initial_candidates, bridge,
+                                               rng_for, shade);
+        case DiStage::finish:
+            return run_stage<DiStage::finish>(step, pixel, buffers, initial_candidates, bridge,
+                                              rng_for, shade);
+        }
+    }
+
+    /// `run_pixel` for a step of stage `Stage` (`step.stage`), for a kernel per stage that
+    /// compiles only that stage's code.
+    template <DiStage Stage, class Initial, class Target, class Visibility, class MaterialTest,
+              class RngFor, class Shade = NoShading>
+    requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
+        RESTIR_HOST_DEVICE void run_stage(const DiStep& step, PixelCoord pixel,
+                                          const DiBuffers<Sample>& buffers,
+                                          const Initial& initial_candidates,
+                                          const ReuseBridge<Target, Visibility, MaterialTest>& bridge,
+                                          const RngFor& rng_for, const Shade& shade = {}) const {
+        RESTIR_ASSERT(step.stage == Stage);
         const ImageView<Reservoir<Sample>> output = buffers[step.output];
         const ImageView<const Reservoir<Sample>> input = buffers[step.input];
-        switch (step.stage) {
-        case DiStage::initial: {
+        if constexpr (Stage == DiStage::initial) {
             Reservoir<Sample> r = initial_reservoir(pixel, initial_candidates, rng_for);
             if (tests(r))
                 apply_visibility(r, surface_at(surfaces, pixel), bridge.visibility);
             output[pixel] = r;
-            return;
-        }
-        case DiStage::temporal: {
+        } else if constexpr (Stage == DiStage::temporal) {
             auto rng = rng_for(pixel, RngStream::temporal);
-            Reservoir<Sample> r = temporal(pixel, input[pixel], temporal_input(pixel, bridge), bridge, rng);
+            Reservoir<Sample> r =
+                temporal(pixel, input[pixel], temporal_input(pixel, bridge), bridge, rng);
             retest_immediately(step, pixel, r, input[pixel], bridge.visibility);
             output[pixel] = r;
-            return;
-        }
-        case DiStage::spatial: {
+        } else if constexpr (Stage == DiStage::spatial) {
             auto rng = rng_for(pixel, RngStream::spatial + step.pass);
-            Reservoir<Sample> r = combines_at(pixel)
-                                      ? spatial(pixel, input, neighbours(pixel, input, bridge, rng),
-                                                bridge, rng)
-                                      : input[pixel];
+            Reservoir<Sample> r = input[pixel];
+            if (combines_at(pixel))
+                r = spatial(pixel, input, neighbours(pixel, input, bridge, rng), bridge, rng);
             retest_immediately(step, pixel, r, input[pixel], bridge.visibility);
             output[pixel] = r;
-            return;
-        }
-        case DiStage::boiling:
+        } else if constexpr (Stage == DiStage::boiling) {
             output[pixel] = boiling_filter(pixel, input, params.boiling);
-            return;
-        case DiStage::finish: {
+        } else {
             Reservoir<Sample> r = output[pixel];
             bool visible = r.has_sample();
             if (visible && finish_retests())
@@ -288,8 +310,6 @@ requires(std::same_as<History, ImageView<const Reservoir<Sample>>> ||
                 output[pixel] = r;
             }
             shade(pixel, r, visible);
-            return;
-        }
         }
     }
 
