@@ -7,6 +7,7 @@
 #include "timing.hpp"
 
 #include "camera.hpp"
+#include "candidate_sources.hpp"
 #include "embree_scene.hpp"
 #include "lights.hpp"
 #include "scatter.hpp"
@@ -65,10 +66,9 @@ struct Renderer::Impl {
     const restir::Falloff& falloff = light_set.falloff();
     PixelBlocks blocks;
     GBuffer gbuffer;
+    std::unique_ptr<InitialCandidates> candidates;
     Camera camera, previous_camera;
 
-    std::optional<restir::LightBvh> light_bvh;     // unified, by importance (--source bvh)
-    std::vector<restir::LightBvhNode> light_nodes; // each light's bounds (--source grid)
     restir::NeighbourOffsets offsets = restir::make_neighbour_offsets();
 
     ReservoirBuffer reservoirs, previous_reservoirs, scratch;
@@ -92,11 +92,11 @@ struct Renderer::Impl {
           blocks(settings.width, settings.height, arena),
           gbuffer(scene, rays, blocks, std::size_t{settings.width} * settings.height, ray_offset,
                   settings.antialias, settings.seed),
+          candidates(make_initial_candidates(settings, scene, light_set, blocks)),
           camera(settings.camera, settings.width, settings.height), previous_camera(camera),
           frame_image(settings.width, settings.height),
           accumulated(settings.width, settings.height),
           sum(std::size_t{settings.width} * settings.height, glm::dvec3(0.0)) {
-        build_light_bounds();
         const std::size_t pixels = std::size_t{settings.width} * settings.height;
         if (settings.method == Method::restir) {
             reservoirs.resize(pixels);
@@ -106,22 +106,6 @@ struct Renderer::Impl {
                 previous_reservoirs.resize(pixels);
             scratch.resize(pixels);
         }
-    }
-
-    // The unified set's emission bounds (emitters as area lights, VPLs as cosine emitters):
-    // the light BVH over them (bvh), or each light's own (grid).
-    void build_light_bounds() {
-        if (settings.source != CandidateSource::bvh && settings.source != CandidateSource::grid)
-            return;
-        const std::vector<restir::LightBounds> bounds = light_set.light_bounds();
-        if (settings.source == CandidateSource::bvh) {
-            light_bvh.emplace(bounds);
-            return;
-        }
-        light_nodes.clear();
-        light_nodes.reserve(bounds.size());
-        for (const restir::LightBounds& b : bounds)
-            light_nodes.push_back(restir::light_bvh_node(b));
     }
 
     // --- Light at a surface: contribution, p-hat and visibility ---------------------------
@@ -148,11 +132,6 @@ struct Renderer::Impl {
     template <class BlockBody>
     void for_each_block(BlockBody&& body) {
         blocks.for_each_block(body);
-    }
-    template <class BlockBody>
-    void for_each_block_by_tile(std::uint32_t frame_index, BlockBody&& body) {
-        blocks.for_each_block_by_tile(
-            tile_count, [&](std::uint32_t b) { return tiles.tile_for(b, frame_index); }, body);
     }
     template <class ReservoirAt, class NeedsTest>
     void test_visibility(const PixelBlock& block, ReservoirAt&& reservoir, NeedsTest&& needs_test) {
@@ -262,233 +241,6 @@ struct Renderer::Impl {
         return buffer;
     }
 
-    // Presampled light tiles, refilled for every frame (and sample), in the structure-of-arrays
-    // layout of batch RIS: candidates come from one tile per 8 x 8 pixel block, which stays in
-    // cache. (Tiles of 256 lights for 16 x 16 blocks were 15 % faster but left visible block
-    // patterns: a block sees too few lights.) Pixels take whole runs of 8 entries, so two pixels
-    // of a block share 8 candidates at a time when their runs meet: 128 tiles of 2048 lights
-    // (256 runs each) keep that as rare as single shared entries were with random entries of
-    // 1024-light tiles (256 tiles of 1024 gave ReSTIR 9 % more error after 20 frames).
-    static constexpr std::uint32_t tile_count = 128;
-    static constexpr std::uint32_t tile_size = 2048; // a power of two
-    static constexpr std::uint32_t block_size = 8;   // candidates per batch-RIS block
-    std::vector<float> tile_planes;
-    std::vector<restir::LightSampleRef> tile_references;
-    restir::LightTileArrays tiles;
-
-    void fill_tiles(std::uint32_t frame_index) {
-        if (settings.source == CandidateSource::bvh)
-            return; // candidates drawn per pixel
-        if (settings.source == CandidateSource::grid)
-            return fill_grid(frame_index);
-        tile_planes.resize(std::size_t{tile_count} * tile_size * restir::tile_plane_count);
-        tile_references.resize(std::size_t{tile_count} * tile_size);
-        tiles = {tile_planes.data(), tile_references.data(), tile_count, tile_size};
-        const restir::PowerLightSampler power{light_table.view()};
-        const restir::UniformLightSampler uniform{lights.light_count()};
-        const std::uint64_t seed = settings.seed;
-        arena.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0u, tile_count * tile_size, 256u),
-                              [&](const tbb::blocked_range<std::uint32_t>& range) {
-                                  for (std::uint32_t i = range.begin(); i < range.end(); ++i) {
-                                      restir::Pcg32 rng = restir::make_pixel_rng(
-                                          i, frame_index, RenderStream::light_tiles, seed);
-                                      const restir::PresampledLight entry =
-                                          settings.source == CandidateSource::power
-                                              ? restir::presample_light(power, lights, rng)
-                                              : restir::presample_light(uniform, lights, rng);
-                                      tiles.store(i / tile_size, i % tile_size, entry, falloff);
-                                  }
-                              });
-        });
-    }
-
-    // --- ReGIR: a world-space grid of light tiles (--source grid) -----------------------------
-    // The scene's box in about cubic cells, `settings.grid_cells` along its longest side
-    // (sampling/light_grid.hpp). Every frame each pixel looks its cell up with a jitter of up to
-    // half a cell along each axis, and each cell looked up gets a tile of lights resampled for
-    // every point whose lookup can land in it (`restir::resample_grid_tile`), so that a
-    // candidate from it can be any light that reaches the pixel. A tile has as many entries as
-    // the pixels that use it, between 32 and 128: most cells looked up hold a few pixels, and
-    // fewer entries there gave more error (docs/performance.md, with what else was tried).
-    static constexpr std::uint32_t grid_tile_size = 128;      // entries at most, a power of two
-    static constexpr std::uint32_t grid_tile_minimum = 32;    // entries at least, a power of two:
-                                                              // the tiles of `grid_tiles`, which a
-                                                              // cell's entries fill one or more of
-    static constexpr std::uint32_t grid_fill_candidates = 32; // per entry
-    std::vector<float> grid_planes;
-    std::vector<restir::LightSampleRef> grid_references;
-    restir::LightTileArrays grid_tiles;
-    restir::LightGridLayout grid; // laid out by the first fill_grid: the scene does not change
-    std::vector<std::uint32_t> cell_tiles;   // per cell: its tile this frame, or none
-    std::vector<std::uint32_t> used_cells;   // per cell looked up this frame (a "tile"): the cell
-    std::vector<std::uint32_t> tile_entries; // per tile: its entries
-    std::vector<std::uint32_t> grid_starts;  // per tile: its first tile of `grid_tiles`
-    std::vector<std::uint32_t> pixel_tiles;  // per pixel: its tile this frame
-
-    void fill_grid(std::uint32_t frame_index) {
-        if (cell_tiles.empty()) {
-            const SceneBounds box = bounds_of(scene);
-            grid = restir::LightGridLayout::over(box.lower, box.upper, settings.grid_cells);
-            cell_tiles.assign(grid.cell_count(), ~0u);
-        }
-        look_up_cells(frame_index);
-        const auto tiles_used = static_cast<std::uint32_t>(used_cells.size());
-        grid_starts.resize(tiles_used);
-        std::uint32_t stored = 0; // tiles of `grid_tiles`, of grid_tile_minimum entries
-        for (std::uint32_t t = 0; t < tiles_used; ++t) {
-            tile_entries[t] =
-                std::clamp(std::bit_ceil(tile_entries[t]), grid_tile_minimum, grid_tile_size);
-            grid_starts[t] = stored;
-            stored += tile_entries[t] / grid_tile_minimum;
-        }
-        grid_planes.resize(std::size_t{stored} * grid_tile_minimum * restir::tile_plane_count);
-        grid_references.resize(std::size_t{stored} * grid_tile_minimum);
-        grid_tiles = {grid_planes.data(), grid_references.data(), stored, grid_tile_minimum};
-        const restir::PowerLightSampler power{light_table.view()};
-        const auto node_of = [this](std::uint32_t id) -> const restir::LightBvhNode& {
-            return light_nodes[id];
-        };
-        arena.execute([&] {
-            tbb::parallel_for(
-                tbb::blocked_range<std::uint32_t>(0u, tiles_used, 1u),
-                [&](const tbb::blocked_range<std::uint32_t>& range) {
-                    std::vector<restir::GridCandidate> candidates(grid_tile_size *
-                                                                  grid_fill_candidates);
-                    for (std::uint32_t t = range.begin(); t < range.end(); ++t) {
-                        const std::uint32_t cell = used_cells[t];
-                        restir::Pcg32 rng = restir::make_pixel_rng(
-                            cell, frame_index, RenderStream::light_tiles, settings.seed);
-                        restir::resample_grid_tile(
-                            power, grid.cell_region(cell), node_of, lights, rng, tile_entries[t],
-                            grid_fill_candidates, candidates.data(),
-                            [&](std::uint32_t j, const restir::PresampledLight& entry) {
-                                grid_tiles.store(grid_starts[t] + j / grid_tile_minimum,
-                                                 j % grid_tile_minimum, entry, falloff);
-                            });
-                    }
-                });
-        });
-    }
-
-    // Each pixel's cell this frame, looked up with a jitter (in parallel); then, in pixel order,
-    // the cells looked up become the frame's tiles, each counting its pixels in `tile_entries`
-    // for now.
-    void look_up_cells(std::uint32_t frame_index) {
-        for (const std::uint32_t cell : used_cells)
-            cell_tiles[cell] = ~0u;
-        used_cells.clear();
-        tile_entries.clear();
-        // `pixel_tiles` holds each pixel's cell until the pass in pixel order below replaces it
-        // with the cell's tile.
-        constexpr std::uint32_t no_cell = ~0u; // a pixel without a surface
-        pixel_tiles.resize(gbuffer.surfaces().size());
-        arena.execute([&] {
-            tbb::parallel_for(
-                tbb::blocked_range<std::uint32_t>(
-                    0u, static_cast<std::uint32_t>(gbuffer.surfaces().size())),
-                [&](const tbb::blocked_range<std::uint32_t>& range) {
-                    for (std::uint32_t i = range.begin(); i < range.end(); ++i) {
-                        restir::Pcg32 rng = restir::make_pixel_rng(
-                            i, frame_index, RenderStream::grid_jitter, settings.seed);
-                        const float u = next_float(rng), v = next_float(rng), w = next_float(rng);
-                        pixel_tiles[i] =
-                            gbuffer.surfaces()[i].valid
-                                ? grid.jittered_cell_of(gbuffer.surfaces()[i].position, {u, v, w})
-                                : no_cell;
-                    }
-                });
-        });
-        for (std::uint32_t& tile : pixel_tiles) {
-            const std::uint32_t cell = tile;
-            if (cell == no_cell) {
-                tile = 0u;
-                continue;
-            }
-            if (cell_tiles[cell] == ~0u) {
-                cell_tiles[cell] = static_cast<std::uint32_t>(used_cells.size());
-                used_cells.push_back(cell);
-                tile_entries.push_back(0u);
-            }
-            tile = cell_tiles[cell];
-            ++tile_entries[tile];
-        }
-    }
-
-    // RIS candidates for a pixel: from the light BVH (bvh), its cell's tile (grid), or its
-    // block's tile (power, uniform).
-    Reservoir initial_reservoir(std::uint32_t x, std::uint32_t y, std::uint32_t frame_index,
-                                const GSurface& s, restir::Pcg32& rng) const {
-        if (settings.source == CandidateSource::bvh)
-            return bvh_reservoir(s, rng);
-        if (settings.source == CandidateSource::grid) {
-            const std::uint32_t tile = pixel_tiles[x + y * settings.width];
-            return tile_reservoir(grid_tiles, grid_starts[tile], tile_entries[tile], s, rng);
-        }
-        return tile_reservoir(tiles, tiles.tile_for(blocks.block_of(x, y), frame_index), tile_size,
-                              s, rng);
-    }
-
-    // Batch RIS over the `size` entries from tile `tile` of `from` on (Alg. 3 of Bitterli et al.
-    // 2020, in blocks of 8 consecutive entries: sampling/ris_batch.hpp); they may span
-    // consecutive tiles (the grid's tiles of more than one block of `from`).
-    Reservoir tile_reservoir(const restir::LightTileArrays& from, std::uint32_t tile,
-                             std::uint32_t size, const GSurface& s, restir::Pcg32& rng) const {
-        // Candidate blocks walk the tile's blocks from a random start with a random odd stride:
-        // every candidate is a uniformly random entry (so its density is the entry's pdf), and
-        // no block repeats within a pixel while there are enough of them.
-        const std::uint32_t block_mask = size / block_size - 1u;
-        const std::uint32_t start = rng.next_uint();
-        const std::uint32_t stride = rng.next_uint() | 1u;
-        const glm::vec3 channel_weights = s.albedo * inv_pi;
-        const auto picked = restir::resample_ris_batch<block_size>(
-            rng, settings.candidates,
-            [&](std::uint32_t b, restir::CandidateBlock<block_size>& block) {
-                const std::uint32_t first = ((start + b * stride) & block_mask) * block_size;
-                return restir::evaluate_tile_block<block_size, target_norm>(
-                    from, tile + first / from.tile_size, first % from.tile_size, s.position,
-                    s.normal, channel_weights, block);
-            });
-        return picked.with_sample(from.point_sample(picked.sample));
-    }
-
-    // Streaming RIS over candidates drawn from the light BVH for the pixel's surface (the
-    // source pdf: the light's pmf there), four draws at a time while four or more remain: their
-    // descents advance side by side (light/light_bvh_view.hpp), which made a frame with 4
-    // candidates at 1280 x 720 with 100k lights about a third faster (docs/performance.md).
-    Reservoir bvh_reservoir(const GSurface& s, restir::Pcg32& rng) const {
-        constexpr std::uint32_t batch = 4;
-        const restir::LightBvhView bvh = light_bvh->view();
-        const restir::ShadingPoint at{s.position, s.normal};
-        restir::DiscreteSample drawn[batch];
-        std::uint32_t taken = 0, ready = 0; // candidates taken, and drawn ahead in `drawn`
-        return restir::resample_ris(
-            rng, settings.candidates,
-            [&](restir::Pcg32& g) {
-                if (ready == 0u && settings.candidates - taken >= batch) {
-                    float u0[batch], u1[batch];
-                    for (std::uint32_t k = 0; k < batch; ++k) {
-                        u0[k] = next_float(g);
-                        u1[k] = next_float(g);
-                    }
-                    bvh.sample(at, u0, u1, drawn);
-                    ready = batch;
-                }
-                const restir::DiscreteSample choice =
-                    ready > 0u ? drawn[batch - ready--] : restir::sample_light(bvh, at, g);
-                ++taken;
-                const restir::SourceSample<restir::LightSampleRef> c =
-                    restir::with_uniform_point(choice, g);
-                restir::SourceSample<restir::LightPointSample> candidate{{}, c.pdf};
-                if (c.pdf > 0.0f)
-                    candidate.sample = restir::make_light_point_sample(
-                        c.sample.light_id, lights.sample_point(c.sample.light_id, c.sample.uv),
-                        falloff);
-                return candidate;
-            },
-            [&](const restir::LightPointSample& x) { return point_target(x, s); });
-    }
-
     // f(y) W with the shadow ray.
     glm::vec3 shade(const Reservoir& reservoir, const GSurface& s) const {
         return reservoir.has_sample() && point_visibility()(reservoir.sample, s)
@@ -595,20 +347,22 @@ struct Renderer::Impl {
     template <class Frame>
     void di_initial(const Frame& f) {
         const auto reservoir_at = [this](std::uint32_t i) -> Reservoir& { return reservoirs[i]; };
-        for_each_block_by_tile(f.frame_index, [&](const PixelBlock& block) {
-            for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
-                reservoirs[i] = Reservoir{};
-                if (!gbuffer.surfaces()[i].valid)
-                    return;
-                restir::Pcg32 rng = restir::make_pixel_rng(
-                    i, f.frame_index, restir::RngStream::initial, settings.seed);
-                reservoirs[i] = initial_reservoir(x, y, f.frame_index, gbuffer.surfaces()[i], rng);
+        candidates->for_each_block_in_draw_order(
+            blocks, f.frame_index, [&](const PixelBlock& block) {
+                for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
+                    reservoirs[i] = Reservoir{};
+                    if (!gbuffer.surfaces()[i].valid)
+                        return;
+                    restir::Pcg32 rng = restir::make_pixel_rng(
+                        i, f.frame_index, restir::RngStream::initial, settings.seed);
+                    reservoirs[i] = candidates->initial_reservoir(x, y, f.frame_index,
+                                                                  gbuffer.surfaces()[i], rng);
+                });
+                // The recipe's `initial` with deferred visibility: this packet.
+                test_visibility(block, reservoir_at, [&](std::uint32_t i) {
+                    return f.needs_visibility_test(reservoirs[i]);
+                });
             });
-            // The recipe's `initial` with deferred visibility: this packet.
-            test_visibility(block, reservoir_at, [&](std::uint32_t i) {
-                return f.needs_visibility_test(reservoirs[i]);
-            });
-        });
     }
 
     // Stage 2: temporal reuse from `reservoirs` into `scratch`, then swapped; the MIS ray
@@ -754,7 +508,7 @@ struct Renderer::Impl {
         gbuffer.trace(camera, frame);
         t.primary = milliseconds_since(start);
         start = Clock::now();
-        fill_tiles(frame);
+        candidates->prepare_frame(frame, gbuffer.surfaces());
         t.tiles = milliseconds_since(start);
         if (settings.packed_history) {
             di_stages(di_frame<PackedDiFrame>(frame, history), image, t);
@@ -891,7 +645,7 @@ struct Renderer::Impl {
     bool reshoot_vpls() {
         const bool new_vpl_set = light_set.reshoot_vpls(frames_rendered);
         if (new_vpl_set)
-            build_light_bounds();
+            candidates->use_light_set();
         return new_vpl_set;
     }
 
@@ -920,7 +674,7 @@ struct Renderer::Impl {
             t.primary += milliseconds_since(start);
             if (settings.method == Method::ris) {
                 start = Clock::now();
-                fill_tiles(index);
+                candidates->prepare_frame(index, gbuffer.surfaces());
                 t.tiles += milliseconds_since(start);
             }
             start = Clock::now();
@@ -928,7 +682,7 @@ struct Renderer::Impl {
                 shade_independent(block, index);
             };
             if (settings.method == Method::ris)
-                for_each_block_by_tile(index, shade_block);
+                candidates->for_each_block_in_draw_order(blocks, index, shade_block);
             else
                 for_each_block(shade_block);
             t.shading += milliseconds_since(start);
@@ -953,8 +707,9 @@ struct Renderer::Impl {
             const GSurface& s = gbuffer.surfaces()[i];
             if (!s.valid || !light_sample)
                 return;
-            reservoir = settings.method == Method::ris ? initial_reservoir(x, y, index, s, rng)
-                                                       : uniform_reservoir(s, rng);
+            reservoir = settings.method == Method::ris
+                            ? candidates->initial_reservoir(x, y, index, s, rng)
+                            : uniform_reservoir(s, rng);
         });
         if (light_sample)
             test_visibility(block, [&](std::uint32_t i) -> Reservoir& { return picked[local(i)]; });
