@@ -1,7 +1,9 @@
 #include "renderer.hpp"
 
+#include "accumulation.hpp"
 #include "gbuffer.hpp"
 #include "light_set.hpp"
+#include "path_tracer.hpp"
 #include "pixel_blocks.hpp"
 #include "reservoir.hpp"
 #include "timing.hpp"
@@ -34,15 +36,6 @@ namespace pt {
 namespace {
 
 using restir::inv_pi;
-
-float max_component(glm::vec3 c) { return std::max(c.x, std::max(c.y, c.z)); }
-
-// Cosine-distributed direction about `normal` (restir's emission sampler).
-glm::vec3 sample_cosine(glm::vec3 normal, restir::Pcg32& rng) {
-    const float u0 = next_float(rng);
-    const float u1 = next_float(rng);
-    return restir::sample_diffuse_direction(normal, u0, u1);
-}
 
 } // namespace
 
@@ -77,10 +70,8 @@ struct Renderer::Impl {
     // points decoded from the light set (`LightPointDecoder`).
     std::vector<restir::PackedPointReservoir> stored_history;
 
-    // The frames: the last one alone, their sum and their average.
-    Image frame_image, accumulated;
-    std::vector<glm::dvec3> sum;
-    std::uint32_t frames_rendered = 0;
+    PathTracer paths;
+    Accumulation accumulation; // the last frame and the average
 
     // Builds the BVH, the emitters, the first VPL set and the frame buffers.
     Impl(const Scene& s, const RenderSettings& rs)
@@ -94,9 +85,8 @@ struct Renderer::Impl {
                   settings.antialias, settings.seed),
           candidates(make_initial_candidates(settings, scene, light_set, blocks)),
           camera(settings.camera, settings.width, settings.height), previous_camera(camera),
-          frame_image(settings.width, settings.height),
-          accumulated(settings.width, settings.height),
-          sum(std::size_t{settings.width} * settings.height, glm::dvec3(0.0)) {
+          paths(scene, rays, light_set, ray_offset, settings.max_depth),
+          accumulation(settings.width, settings.height) {
         const std::size_t pixels = std::size_t{settings.width} * settings.height;
         if (settings.method == Method::restir) {
             reservoirs.resize(pixels);
@@ -109,16 +99,6 @@ struct Renderer::Impl {
     }
 
     // --- Light at a surface: contribution, p-hat and visibility ---------------------------
-    glm::vec3 reflected(const GSurface& s, const restir::LightSample& light) const {
-        return s.albedo * inv_pi *
-               restir::unshadowed_irradiance(light, s.position, s.normal, falloff);
-    }
-    restir::LightVisibility<Unified, EmbreeScene> visibility() const {
-        return {&lights, &rays, ray_offset};
-    }
-    bool visible(const restir::LightSampleRef& ref, const GSurface& s) const {
-        return visibility()(ref, s);
-    }
     restir::LightPointVisibility<EmbreeScene> point_visibility() const {
         return {&rays, ray_offset};
     }
@@ -491,7 +471,7 @@ struct Renderer::Impl {
                     if (settings.gi == GlobalIllumination::path) {
                         restir::Pcg32 rng = restir::make_pixel_rng(
                             i, f.frame_index, RenderStream::path, settings.seed);
-                        color += path_radiance(s, rng, false, true);
+                        color += paths.path_radiance(s, rng, false, true);
                     }
                 }
                 image.pixels[i] = color;
@@ -538,88 +518,6 @@ struct Renderer::Impl {
         t.shading = milliseconds_since(start);
     }
 
-    // --- Path tracing ----------------------------------------------------------------------
-    // Emitters by power with MIS against cosine sampling; VPLs by power (no MIS: delta).
-    // Kept inline in path_radiance: the compiler fuses multiplies and adds across the call
-    // (FMA), so the image's last bits depend on it.
-    [[gnu::always_inline]] glm::vec3 emitter_nee(const GSurface& s, restir::Pcg32& rng) const {
-        const restir::DiscreteSample c =
-            restir::sample_light(restir::PowerLightSampler{emitter_table.view()}, rng);
-        const float u = next_float(rng);
-        const float v = next_float(rng);
-        if (!(c.pmf > 0.0f))
-            return glm::vec3(0.0f);
-        const restir::LightSampleRef ref{c.index, {u, v}};
-        const restir::LightSample light = lights.sample_point(ref.light_id, ref.uv);
-        const glm::vec3 to_light = light.position - s.position;
-        const float d2 = glm::dot(to_light, to_light);
-        const glm::vec3 w = to_light / std::sqrt(d2);
-        const float cos_light = -glm::dot(light.normal, w);
-        const float cos_surface = glm::dot(s.normal, w);
-        if (!(cos_light > 0.0f) || !(cos_surface > 0.0f) || !visible(ref, s))
-            return glm::vec3(0.0f);
-        const float light_pdf = c.pmf * light.area_pdf * d2 / cos_light; // solid angle
-        const float bsdf_pdf = restir::diffuse_direction_pdf(s.normal, w);
-        return reflected(s, light) / c.pmf * (light_pdf / (light_pdf + bsdf_pdf));
-    }
-
-    glm::vec3 vpl_nee(const GSurface& s, restir::Pcg32& rng) const {
-        if (vpls.empty())
-            return glm::vec3(0.0f);
-        const restir::DiscreteSample c =
-            restir::sample_light(restir::PowerLightSampler{vpl_table.view()}, rng);
-        if (!(c.pmf > 0.0f))
-            return glm::vec3(0.0f);
-        const restir::LightSampleRef ref{emitters.light_count() + c.index, {0.0f, 0.0f}};
-        if (!visible(ref, s))
-            return glm::vec3(0.0f);
-        return reflected(s, lights.sample_point(ref.light_id, ref.uv)) / c.pmf;
-    }
-
-    // Radiance reflected at `start` towards the previous vertex (its own emission excluded).
-    // With `direct` the emitters' direct light at `start` is included (NEE + MIS); without it,
-    // the caller has estimated it, and only light that bounced at least once more is added.
-    // `bounce_further` continues beyond the first bounce (gi path; otherwise the path stops
-    // after the cosine-sampled ray that MIS needs).
-    glm::vec3 path_radiance(const GSurface& start, restir::Pcg32& rng, bool direct,
-                            bool bounce_further) const {
-        glm::vec3 radiance(0.0f);
-        glm::vec3 throughput(1.0f);
-        GSurface s = start;
-        for (std::uint32_t depth = 0;; ++depth) {
-            if (direct)
-                radiance += throughput * emitter_nee(s, rng);
-            if (depth + 1 >= settings.max_depth || (!direct && !bounce_further && depth > 0))
-                break;
-            const glm::vec3 direction = sample_cosine(s.normal, rng);
-            const Hit hit = rays.closest_hit(s.position + s.normal * ray_offset, direction);
-            if (!hit.found)
-                break;
-            throughput *= s.albedo; // f cos / pdf of cosine sampling
-            const std::uint32_t emitter = emitters.emitter_of_triangle(hit.triangle);
-            if (direct && emitter != TriangleEmitters::none &&
-                glm::dot(hit.normal, direction) < 0.0f) {
-                const float cos_light = -glm::dot(hit.normal, direction);
-                const float light_pdf = emitter_table.pmf(emitter) / emitters.area(emitter) *
-                                        hit.distance * hit.distance / cos_light;
-                const float bsdf_pdf = restir::diffuse_direction_pdf(s.normal, direction);
-                radiance +=
-                    throughput * emitters.radiance(emitter) * (bsdf_pdf / (bsdf_pdf + light_pdf));
-            }
-            if (!bounce_further)
-                break;
-            if (depth >= 2) { // Russian roulette
-                const float survival = std::min(0.95f, max_component(throughput));
-                if (!(survival > 0.0f) || next_float(rng) >= survival)
-                    break;
-                throughput /= survival;
-            }
-            s = surface_at(scene, hit, direction);
-            direct = true;
-        }
-        return radiance;
-    }
-
     // --- Frames ----------------------------------------------------------------------------
 
     // The next frame, added to the accumulation; the first frame's timings (and those of a
@@ -628,22 +526,22 @@ struct Renderer::Impl {
         FrameTimings t;
         const auto frame_start = Clock::now();
         const bool new_vpl_set = reshoot_vpls();
-        if (frames_rendered == 0 || new_vpl_set)
+        if (accumulation.frames() == 0 || new_vpl_set)
             t.photons = light_set.photon_ms();
         if (settings.motion == CameraMotion::orbit)
-            orbit_camera(frames_rendered);
+            orbit_camera(accumulation.frames());
         if (settings.method == Method::restir)
-            restir_frame(frames_rendered, !new_vpl_set, frame_image, t);
+            restir_frame(accumulation.frames(), !new_vpl_set, accumulation.frame(), t);
         else
-            independent_frame(frames_rendered, t);
-        accumulate();
+            independent_frame(accumulation.frames(), t);
+        accumulation.add_frame();
         t.total = milliseconds_since(frame_start);
         return t;
     }
 
     // A new VPL set every `vpl_reshoot_interval` frames: true when this frame shot one.
     bool reshoot_vpls() {
-        const bool new_vpl_set = light_set.reshoot_vpls(frames_rendered);
+        const bool new_vpl_set = light_set.reshoot_vpls(accumulation.frames());
         if (new_vpl_set)
             candidates->use_light_set();
         return new_vpl_set;
@@ -666,7 +564,8 @@ struct Renderer::Impl {
     // uniform, ris and reference: `spp` independent samples per pixel, each with its own
     // G-buffer (and light tiles for ris), averaged into the frame image.
     void independent_frame(std::uint32_t frame, FrameTimings& t) {
-        std::fill(frame_image.pixels.begin(), frame_image.pixels.end(), glm::vec3(0.0f));
+        std::fill(accumulation.frame().pixels.begin(), accumulation.frame().pixels.end(),
+                  glm::vec3(0.0f));
         for (std::uint32_t sample = 0; sample < settings.spp; ++sample) {
             const std::uint32_t index = frame * settings.spp + sample;
             auto start = Clock::now();
@@ -716,8 +615,9 @@ struct Renderer::Impl {
         for_each_pixel_of(block, [&](std::uint32_t, std::uint32_t, std::uint32_t i) {
             const GSurface& s = gbuffer.surfaces()[i];
             if (s.valid)
-                frame_image.pixels[i] += independent_radiance(s, picked[local(i)], rngs[local(i)]) /
-                                         static_cast<float>(settings.spp);
+                accumulation.frame().pixels[i] +=
+                    independent_radiance(s, picked[local(i)], rngs[local(i)]) /
+                    static_cast<float>(settings.spp);
         });
     }
 
@@ -729,25 +629,15 @@ struct Renderer::Impl {
         const bool gi_path = settings.gi == GlobalIllumination::path;
         glm::vec3 color = s.emitted;
         if (settings.method == Method::reference) {
-            color += path_radiance(s, rng, true, gi_path);
+            color += paths.path_radiance(s, rng, true, gi_path);
             if (settings.gi == GlobalIllumination::vpl)
-                color += vpl_nee(s, rng);
+                color += paths.vpl_nee(s, rng);
         } else {
             color += unshadowed(picked, s);
             if (gi_path)
-                color += path_radiance(s, rng, false, true);
+                color += paths.path_radiance(s, rng, false, true);
         }
         return color;
-    }
-
-    // The frame image added to the sum; the accumulation is the sum's average.
-    void accumulate() {
-        ++frames_rendered;
-        const double inverse = 1.0 / frames_rendered;
-        for (std::size_t i = 0; i < sum.size(); ++i) {
-            sum[i] += glm::dvec3(frame_image.pixels[i]);
-            accumulated.pixels[i] = glm::vec3(sum[i] * inverse);
-        }
     }
 };
 
@@ -777,9 +667,9 @@ Renderer::~Renderer() = default;
 
 FrameTimings Renderer::render_frame() { return impl_->render_frame(); }
 
-const Image& Renderer::accumulated() const { return impl_->accumulated; }
-const Image& Renderer::last_frame() const { return impl_->frame_image; }
-std::uint32_t Renderer::frames_rendered() const { return impl_->frames_rendered; }
+const Image& Renderer::accumulated() const { return impl_->accumulation.average(); }
+const Image& Renderer::last_frame() const { return impl_->accumulation.frame(); }
+std::uint32_t Renderer::frames_rendered() const { return impl_->accumulation.frames(); }
 std::uint32_t Renderer::photons_per_set() const {
     return impl_->light_set.photons_per_set().value_or(0u);
 }
