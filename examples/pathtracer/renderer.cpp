@@ -1,52 +1,29 @@
 #include "renderer.hpp"
 
+#include "accumulation.hpp"
+#include "camera.hpp"
+#include "candidate_sources.hpp"
+#include "embree_scene.hpp"
 #include "gbuffer.hpp"
 #include "light_set.hpp"
+#include "path_tracer.hpp"
 #include "pixel_blocks.hpp"
 #include "reservoir.hpp"
+#include "restir_di.hpp"
 #include "timing.hpp"
 
-#include "camera.hpp"
-#include "embree_scene.hpp"
-#include "lights.hpp"
-#include "scatter.hpp"
-
-#include <glm/geometric.hpp>
-#include <tbb/blocked_range.h>
-#include <tbb/blocked_range2d.h>
-#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <array>
-#include <bit>
-#include <chrono>
 #include <cmath>
-#include <limits>
-#include <new>
+#include <memory>
 #include <optional>
-#include <span>
-#include <string>
 
 namespace pt {
 
-namespace {
-
-using restir::inv_pi;
-
-float max_component(glm::vec3 c) { return std::max(c.x, std::max(c.y, c.z)); }
-
-// Cosine-distributed direction about `normal` (restir's emission sampler).
-glm::vec3 sample_cosine(glm::vec3 normal, restir::Pcg32& rng) {
-    const float u0 = next_float(rng);
-    const float u1 = next_float(rng);
-    return restir::sample_diffuse_direction(normal, u0, u1);
-}
-
-} // namespace
-
-// The renderer's state (the scene's BVH and emitters, the light set, the G-buffers and
-// reservoirs of this frame and the last, the images) and its stages.
+// The renderer: its parts (the scene's rays, the light set, the pixel blocks, the G-buffer,
+// the candidate source, the path tracer, ReSTIR DI and the accumulation) and the frame loop.
 struct Renderer::Impl {
     const Scene& scene;
     const RenderSettings settings;
@@ -54,33 +31,14 @@ struct Renderer::Impl {
     tbb::task_arena arena;
     const float extent;     // scene_size: the length of the bounding box's diagonal
     const float ray_offset; // 1e-4 of the extent
-    // The light set: the emitters and the VPL set of this frame.
-    LightSet light_set;
-    const Unified& lights = light_set.lights();
-    const TriangleEmitters& emitters = light_set.emitters();
-    const std::vector<restir::Vpl>& vpls = light_set.vpls();
-    const restir::AliasTable& light_table = light_set.power_table();
-    const restir::AliasTable& emitter_table = light_set.emitter_table();
-    const restir::AliasTable& vpl_table = light_set.vpl_table();
-    const restir::Falloff& falloff = light_set.falloff();
+    LightSet light_set;     // the emitters and the VPL set of this frame
     PixelBlocks blocks;
     GBuffer gbuffer;
+    std::unique_ptr<InitialCandidates> candidates;
     Camera camera, previous_camera;
-
-    std::optional<restir::LightBvh> light_bvh;     // unified, by importance (--source bvh)
-    std::vector<restir::LightBvhNode> light_nodes; // each light's bounds (--source grid)
-    restir::NeighbourOffsets offsets = restir::make_neighbour_offsets();
-
-    ReservoirBuffer reservoirs, previous_reservoirs, scratch;
-    // With --packed-history, the final reservoirs in storage form instead of
-    // `previous_reservoirs`: next frame's history in 28 bytes a pixel instead of 64, its light
-    // points decoded from the light set (`LightPointDecoder`).
-    std::vector<restir::PackedPointReservoir> stored_history;
-
-    // The frames: the last one alone, their sum and their average.
-    Image frame_image, accumulated;
-    std::vector<glm::dvec3> sum;
-    std::uint32_t frames_rendered = 0;
+    PathTracer paths;
+    std::optional<RestirDi> restir; // --method restir
+    Accumulation accumulation;      // the last frame and the average
 
     // Builds the BVH, the emitters, the first VPL set and the frame buffers.
     Impl(const Scene& s, const RenderSettings& rs)
@@ -92,415 +50,20 @@ struct Renderer::Impl {
           blocks(settings.width, settings.height, arena),
           gbuffer(scene, rays, blocks, std::size_t{settings.width} * settings.height, ray_offset,
                   settings.antialias, settings.seed),
+          candidates(make_initial_candidates(settings, scene, light_set, blocks)),
           camera(settings.camera, settings.width, settings.height), previous_camera(camera),
-          frame_image(settings.width, settings.height),
-          accumulated(settings.width, settings.height),
-          sum(std::size_t{settings.width} * settings.height, glm::dvec3(0.0)) {
-        build_light_bounds();
-        const std::size_t pixels = std::size_t{settings.width} * settings.height;
-        if (settings.method == Method::restir) {
-            reservoirs.resize(pixels);
-            if (settings.packed_history)
-                stored_history.resize(pixels);
-            else
-                previous_reservoirs.resize(pixels);
-            scratch.resize(pixels);
-        }
-    }
-
-    // The unified set's emission bounds (emitters as area lights, VPLs as cosine emitters):
-    // the light BVH over them (bvh), or each light's own (grid).
-    void build_light_bounds() {
-        if (settings.source != CandidateSource::bvh && settings.source != CandidateSource::grid)
-            return;
-        const std::vector<restir::LightBounds> bounds = light_set.light_bounds();
-        if (settings.source == CandidateSource::bvh) {
-            light_bvh.emplace(bounds);
-            return;
-        }
-        light_nodes.clear();
-        light_nodes.reserve(bounds.size());
-        for (const restir::LightBounds& b : bounds)
-            light_nodes.push_back(restir::light_bvh_node(b));
-    }
-
-    // --- Light at a surface: contribution, p-hat and visibility ---------------------------
-    glm::vec3 reflected(const GSurface& s, const restir::LightSample& light) const {
-        return s.albedo * inv_pi *
-               restir::unshadowed_irradiance(light, s.position, s.normal, falloff);
-    }
-    restir::LightVisibility<Unified, EmbreeScene> visibility() const {
-        return {&lights, &rays, ray_offset};
-    }
-    bool visible(const restir::LightSampleRef& ref, const GSurface& s) const {
-        return visibility()(ref, s);
-    }
-    restir::LightPointVisibility<EmbreeScene> point_visibility() const {
-        return {&rays, ray_offset};
-    }
-
-    // --- Pixels: the pixel blocks and the G-buffer -------------------------------------------
-    static constexpr std::uint32_t pixel_block = pixel_block_side;
-    template <class Body>
-    void for_each_pixel_of(const PixelBlock& block, Body&& body) const {
-        blocks.for_each_pixel_of(block, body);
-    }
-    template <class BlockBody>
-    void for_each_block(BlockBody&& body) {
-        blocks.for_each_block(body);
-    }
-    template <class BlockBody>
-    void for_each_block_by_tile(std::uint32_t frame_index, BlockBody&& body) {
-        blocks.for_each_block_by_tile(
-            tile_count, [&](std::uint32_t b) { return tiles.tile_for(b, frame_index); }, body);
-    }
-    template <class ReservoirAt, class NeedsTest>
-    void test_visibility(const PixelBlock& block, ReservoirAt&& reservoir, NeedsTest&& needs_test) {
-        gbuffer.test_visibility(block, reservoir, needs_test);
-    }
-    template <class ReservoirAt>
-    void test_visibility(const PixelBlock& block, ReservoirAt&& reservoir) {
-        gbuffer.test_visibility(block, reservoir);
-    }
-
-    // The MIS shadow rays of a reuse pass, traced ahead as packets: pairwise MIS asks whether
-    // each pixel's own (canonical) sample is visible from each neighbour's surface. A block
-    // first lists those rays (`mis_rays_of`), traces them together, and the pass then reads the
-    // answers (`cached_visibility`); any other visibility question is traced on the spot.
-    static constexpr std::uint32_t max_cached_rays = restir::max_reuse_inputs;
-    struct MisRayCache {
-        restir::LightPointSample sample{};
-        std::array<const GSurface*, max_cached_rays> surfaces{};
-        std::array<float, max_cached_rays> target{};         ///< p-hat of `sample` there
-        std::array<std::uint8_t, max_cached_rays> visible{}; ///< where target > 0
-        std::uint32_t count = 0;
-    };
-    static bool same_sample(const restir::LightPointSample& a, const restir::LightPointSample& b) {
-        return a.light_id == b.light_id && a.position == b.position && a.normal == b.normal;
-    }
-    // Fills `caches` (one per pixel of the block, in block order) for the canonical samples
-    // `canonical(i)` (i: the pixel's index in the image) and the neighbour surfaces
-    // `neighbours(k, out) -> count` (k: the pixel's place in the block), and traces them.
-    template <class CanonicalAt, class NeighboursOf>
-    void trace_mis_rays(const PixelBlock& block, CanonicalAt&& canonical, NeighboursOf&& neighbours,
-                        std::span<MisRayCache> caches) {
-        constexpr std::size_t capacity = pixel_block * pixel_block * max_cached_rays;
-        std::vector<glm::vec3>& from = ray_from_scratch();
-        std::vector<glm::vec3>& to = ray_to_scratch();
-        std::vector<std::uint8_t>& blocked = ray_blocked_scratch();
-        from.resize(capacity);
-        to.resize(capacity);
-        blocked.resize(capacity);
-        const restir::LightPointVisibility<EmbreeScene> visibility = point_visibility();
-        std::size_t n = 0, k = 0;
-        for_each_pixel_of(block, [&](std::uint32_t, std::uint32_t, std::uint32_t i) {
-            const auto local = static_cast<std::uint32_t>(k++);
-            MisRayCache& cache = caches[local];
-            cache.count = 0;
-            const Reservoir& own = canonical(i);
-            if (!gbuffer.surfaces()[i].valid || !own.has_sample())
-                return;
-            cache.sample = own.sample;
-            std::array<const GSurface*, max_cached_rays> there{};
-            const std::uint32_t count = neighbours(local, there);
-            for (std::uint32_t j = 0; j < count; ++j) {
-                const float target = point_target(own.sample, *there[j]);
-                cache.surfaces[cache.count] = there[j];
-                cache.target[cache.count++] = target;
-                if (!(target > 0.0f))
-                    continue; // the MIS weight will not ask for visibility
-                const restir::ShadowSegment segment = visibility.segment(own.sample, *there[j]);
-                from[n] = segment.from;
-                to[n++] = segment.to;
-            }
-        });
-        rays.occluded_segments(std::span(from.data(), n), std::span(to.data(), n),
-                               std::span(blocked.data(), n));
-        n = 0;
-        for (std::size_t c = 0; c < k; ++c)
-            for (std::uint32_t j = 0; j < caches[c].count; ++j)
-                caches[c].visible[j] = caches[c].target[j] > 0.0f && blocked[n++] == 0u ? 1u : 0u;
-    }
-    float cached_target(const MisRayCache& cache, const restir::LightPointSample& sample,
-                        const GSurface& surface) const {
-        if (same_sample(sample, cache.sample))
-            for (std::uint32_t j = 0; j < cache.count; ++j)
-                if (cache.surfaces[j] == &surface)
-                    return cache.target[j];
-        return point_target(sample, surface);
-    }
-    bool cached_visibility(const MisRayCache& cache, const restir::LightPointSample& sample,
-                           const GSurface& surface) const {
-        if (same_sample(sample, cache.sample))
-            for (std::uint32_t j = 0; j < cache.count; ++j)
-                if (cache.surfaces[j] == &surface)
-                    return cache.visible[j] != 0u;
-        return point_visibility()(sample, surface);
-    }
-    // A reuse bridge whose MIS targets and rays towards the cached surfaces come from `cache`
-    // (empty when the pass traces no MIS rays: then everything is evaluated on the spot).
-    auto cached_bridge(const MisRayCache& cache) const {
-        return restir::ReuseBridge{
-            [this, &cache](const restir::LightPointSample& sample, const GSurface& there) {
-                return cached_target(cache, sample, there);
-            },
-            [this, &cache](const restir::LightPointSample& sample, const GSurface& there) {
-                return cached_visibility(cache, sample, there);
-            }};
-    }
-    // Per-thread ray buffers for trace_mis_rays.
-    static std::vector<glm::vec3>& ray_from_scratch() {
-        thread_local std::vector<glm::vec3> buffer;
-        return buffer;
-    }
-    static std::vector<glm::vec3>& ray_to_scratch() {
-        thread_local std::vector<glm::vec3> buffer;
-        return buffer;
-    }
-    static std::vector<std::uint8_t>& ray_blocked_scratch() {
-        thread_local std::vector<std::uint8_t> buffer;
-        return buffer;
-    }
-
-    // Presampled light tiles, refilled for every frame (and sample), in the structure-of-arrays
-    // layout of batch RIS: candidates come from one tile per 8 x 8 pixel block, which stays in
-    // cache. (Tiles of 256 lights for 16 x 16 blocks were 15 % faster but left visible block
-    // patterns: a block sees too few lights.) Pixels take whole runs of 8 entries, so two pixels
-    // of a block share 8 candidates at a time when their runs meet: 128 tiles of 2048 lights
-    // (256 runs each) keep that as rare as single shared entries were with random entries of
-    // 1024-light tiles (256 tiles of 1024 gave ReSTIR 9 % more error after 20 frames).
-    static constexpr std::uint32_t tile_count = 128;
-    static constexpr std::uint32_t tile_size = 2048; // a power of two
-    static constexpr std::uint32_t block_size = 8;   // candidates per batch-RIS block
-    std::vector<float> tile_planes;
-    std::vector<restir::LightSampleRef> tile_references;
-    restir::LightTileArrays tiles;
-
-    void fill_tiles(std::uint32_t frame_index) {
-        if (settings.source == CandidateSource::bvh)
-            return; // candidates drawn per pixel
-        if (settings.source == CandidateSource::grid)
-            return fill_grid(frame_index);
-        tile_planes.resize(std::size_t{tile_count} * tile_size * restir::tile_plane_count);
-        tile_references.resize(std::size_t{tile_count} * tile_size);
-        tiles = {tile_planes.data(), tile_references.data(), tile_count, tile_size};
-        const restir::PowerLightSampler power{light_table.view()};
-        const restir::UniformLightSampler uniform{lights.light_count()};
-        const std::uint64_t seed = settings.seed;
-        arena.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0u, tile_count * tile_size, 256u),
-                              [&](const tbb::blocked_range<std::uint32_t>& range) {
-                                  for (std::uint32_t i = range.begin(); i < range.end(); ++i) {
-                                      restir::Pcg32 rng = restir::make_pixel_rng(
-                                          i, frame_index, RenderStream::light_tiles, seed);
-                                      const restir::PresampledLight entry =
-                                          settings.source == CandidateSource::power
-                                              ? restir::presample_light(power, lights, rng)
-                                              : restir::presample_light(uniform, lights, rng);
-                                      tiles.store(i / tile_size, i % tile_size, entry, falloff);
-                                  }
-                              });
-        });
-    }
-
-    // --- ReGIR: a world-space grid of light tiles (--source grid) -----------------------------
-    // The scene's box in about cubic cells, `settings.grid_cells` along its longest side
-    // (sampling/light_grid.hpp). Every frame each pixel looks its cell up with a jitter of up to
-    // half a cell along each axis, and each cell looked up gets a tile of lights resampled for
-    // every point whose lookup can land in it (`restir::resample_grid_tile`), so that a
-    // candidate from it can be any light that reaches the pixel. A tile has as many entries as
-    // the pixels that use it, between 32 and 128: most cells looked up hold a few pixels, and
-    // fewer entries there gave more error (docs/performance.md, with what else was tried).
-    static constexpr std::uint32_t grid_tile_size = 128;      // entries at most, a power of two
-    static constexpr std::uint32_t grid_tile_minimum = 32;    // entries at least, a power of two:
-                                                              // the tiles of `grid_tiles`, which a
-                                                              // cell's entries fill one or more of
-    static constexpr std::uint32_t grid_fill_candidates = 32; // per entry
-    std::vector<float> grid_planes;
-    std::vector<restir::LightSampleRef> grid_references;
-    restir::LightTileArrays grid_tiles;
-    restir::LightGridLayout grid; // laid out by the first fill_grid: the scene does not change
-    std::vector<std::uint32_t> cell_tiles;   // per cell: its tile this frame, or none
-    std::vector<std::uint32_t> used_cells;   // per cell looked up this frame (a "tile"): the cell
-    std::vector<std::uint32_t> tile_entries; // per tile: its entries
-    std::vector<std::uint32_t> grid_starts;  // per tile: its first tile of `grid_tiles`
-    std::vector<std::uint32_t> pixel_tiles;  // per pixel: its tile this frame
-
-    void fill_grid(std::uint32_t frame_index) {
-        if (cell_tiles.empty()) {
-            const SceneBounds box = bounds_of(scene);
-            grid = restir::LightGridLayout::over(box.lower, box.upper, settings.grid_cells);
-            cell_tiles.assign(grid.cell_count(), ~0u);
-        }
-        look_up_cells(frame_index);
-        const auto tiles_used = static_cast<std::uint32_t>(used_cells.size());
-        grid_starts.resize(tiles_used);
-        std::uint32_t stored = 0; // tiles of `grid_tiles`, of grid_tile_minimum entries
-        for (std::uint32_t t = 0; t < tiles_used; ++t) {
-            tile_entries[t] =
-                std::clamp(std::bit_ceil(tile_entries[t]), grid_tile_minimum, grid_tile_size);
-            grid_starts[t] = stored;
-            stored += tile_entries[t] / grid_tile_minimum;
-        }
-        grid_planes.resize(std::size_t{stored} * grid_tile_minimum * restir::tile_plane_count);
-        grid_references.resize(std::size_t{stored} * grid_tile_minimum);
-        grid_tiles = {grid_planes.data(), grid_references.data(), stored, grid_tile_minimum};
-        const restir::PowerLightSampler power{light_table.view()};
-        const auto node_of = [this](std::uint32_t id) -> const restir::LightBvhNode& {
-            return light_nodes[id];
-        };
-        arena.execute([&] {
-            tbb::parallel_for(
-                tbb::blocked_range<std::uint32_t>(0u, tiles_used, 1u),
-                [&](const tbb::blocked_range<std::uint32_t>& range) {
-                    std::vector<restir::GridCandidate> candidates(grid_tile_size *
-                                                                  grid_fill_candidates);
-                    for (std::uint32_t t = range.begin(); t < range.end(); ++t) {
-                        const std::uint32_t cell = used_cells[t];
-                        restir::Pcg32 rng = restir::make_pixel_rng(
-                            cell, frame_index, RenderStream::light_tiles, settings.seed);
-                        restir::resample_grid_tile(
-                            power, grid.cell_region(cell), node_of, lights, rng, tile_entries[t],
-                            grid_fill_candidates, candidates.data(),
-                            [&](std::uint32_t j, const restir::PresampledLight& entry) {
-                                grid_tiles.store(grid_starts[t] + j / grid_tile_minimum,
-                                                 j % grid_tile_minimum, entry, falloff);
-                            });
-                    }
-                });
-        });
-    }
-
-    // Each pixel's cell this frame, looked up with a jitter (in parallel); then, in pixel order,
-    // the cells looked up become the frame's tiles, each counting its pixels in `tile_entries`
-    // for now.
-    void look_up_cells(std::uint32_t frame_index) {
-        for (const std::uint32_t cell : used_cells)
-            cell_tiles[cell] = ~0u;
-        used_cells.clear();
-        tile_entries.clear();
-        // `pixel_tiles` holds each pixel's cell until the pass in pixel order below replaces it
-        // with the cell's tile.
-        constexpr std::uint32_t no_cell = ~0u; // a pixel without a surface
-        pixel_tiles.resize(gbuffer.surfaces().size());
-        arena.execute([&] {
-            tbb::parallel_for(
-                tbb::blocked_range<std::uint32_t>(
-                    0u, static_cast<std::uint32_t>(gbuffer.surfaces().size())),
-                [&](const tbb::blocked_range<std::uint32_t>& range) {
-                    for (std::uint32_t i = range.begin(); i < range.end(); ++i) {
-                        restir::Pcg32 rng = restir::make_pixel_rng(
-                            i, frame_index, RenderStream::grid_jitter, settings.seed);
-                        const float u = next_float(rng), v = next_float(rng), w = next_float(rng);
-                        pixel_tiles[i] =
-                            gbuffer.surfaces()[i].valid
-                                ? grid.jittered_cell_of(gbuffer.surfaces()[i].position, {u, v, w})
-                                : no_cell;
-                    }
-                });
-        });
-        for (std::uint32_t& tile : pixel_tiles) {
-            const std::uint32_t cell = tile;
-            if (cell == no_cell) {
-                tile = 0u;
-                continue;
-            }
-            if (cell_tiles[cell] == ~0u) {
-                cell_tiles[cell] = static_cast<std::uint32_t>(used_cells.size());
-                used_cells.push_back(cell);
-                tile_entries.push_back(0u);
-            }
-            tile = cell_tiles[cell];
-            ++tile_entries[tile];
-        }
-    }
-
-    // RIS candidates for a pixel: from the light BVH (bvh), its cell's tile (grid), or its
-    // block's tile (power, uniform).
-    Reservoir initial_reservoir(std::uint32_t x, std::uint32_t y, std::uint32_t frame_index,
-                                const GSurface& s, restir::Pcg32& rng) const {
-        if (settings.source == CandidateSource::bvh)
-            return bvh_reservoir(s, rng);
-        if (settings.source == CandidateSource::grid) {
-            const std::uint32_t tile = pixel_tiles[x + y * settings.width];
-            return tile_reservoir(grid_tiles, grid_starts[tile], tile_entries[tile], s, rng);
-        }
-        return tile_reservoir(tiles, tiles.tile_for(blocks.block_of(x, y), frame_index), tile_size,
-                              s, rng);
-    }
-
-    // Batch RIS over the `size` entries from tile `tile` of `from` on (Alg. 3 of Bitterli et al.
-    // 2020, in blocks of 8 consecutive entries: sampling/ris_batch.hpp); they may span
-    // consecutive tiles (the grid's tiles of more than one block of `from`).
-    Reservoir tile_reservoir(const restir::LightTileArrays& from, std::uint32_t tile,
-                             std::uint32_t size, const GSurface& s, restir::Pcg32& rng) const {
-        // Candidate blocks walk the tile's blocks from a random start with a random odd stride:
-        // every candidate is a uniformly random entry (so its density is the entry's pdf), and
-        // no block repeats within a pixel while there are enough of them.
-        const std::uint32_t block_mask = size / block_size - 1u;
-        const std::uint32_t start = rng.next_uint();
-        const std::uint32_t stride = rng.next_uint() | 1u;
-        const glm::vec3 channel_weights = s.albedo * inv_pi;
-        const auto picked = restir::resample_ris_batch<block_size>(
-            rng, settings.candidates,
-            [&](std::uint32_t b, restir::CandidateBlock<block_size>& block) {
-                const std::uint32_t first = ((start + b * stride) & block_mask) * block_size;
-                return restir::evaluate_tile_block<block_size, target_norm>(
-                    from, tile + first / from.tile_size, first % from.tile_size, s.position,
-                    s.normal, channel_weights, block);
-            });
-        return picked.with_sample(from.point_sample(picked.sample));
-    }
-
-    // Streaming RIS over candidates drawn from the light BVH for the pixel's surface (the
-    // source pdf: the light's pmf there), four draws at a time while four or more remain: their
-    // descents advance side by side (light/light_bvh_view.hpp), which made a frame with 4
-    // candidates at 1280 x 720 with 100k lights about a third faster (docs/performance.md).
-    Reservoir bvh_reservoir(const GSurface& s, restir::Pcg32& rng) const {
-        constexpr std::uint32_t batch = 4;
-        const restir::LightBvhView bvh = light_bvh->view();
-        const restir::ShadingPoint at{s.position, s.normal};
-        restir::DiscreteSample drawn[batch];
-        std::uint32_t taken = 0, ready = 0; // candidates taken, and drawn ahead in `drawn`
-        return restir::resample_ris(
-            rng, settings.candidates,
-            [&](restir::Pcg32& g) {
-                if (ready == 0u && settings.candidates - taken >= batch) {
-                    float u0[batch], u1[batch];
-                    for (std::uint32_t k = 0; k < batch; ++k) {
-                        u0[k] = next_float(g);
-                        u1[k] = next_float(g);
-                    }
-                    bvh.sample(at, u0, u1, drawn);
-                    ready = batch;
-                }
-                const restir::DiscreteSample choice =
-                    ready > 0u ? drawn[batch - ready--] : restir::sample_light(bvh, at, g);
-                ++taken;
-                const restir::SourceSample<restir::LightSampleRef> c =
-                    restir::with_uniform_point(choice, g);
-                restir::SourceSample<restir::LightPointSample> candidate{{}, c.pdf};
-                if (c.pdf > 0.0f)
-                    candidate.sample = restir::make_light_point_sample(
-                        c.sample.light_id, lights.sample_point(c.sample.light_id, c.sample.uv),
-                        falloff);
-                return candidate;
-            },
-            [&](const restir::LightPointSample& x) { return point_target(x, s); });
-    }
-
-    // f(y) W with the shadow ray.
-    glm::vec3 shade(const Reservoir& reservoir, const GSurface& s) const {
-        return reservoir.has_sample() && point_visibility()(reservoir.sample, s)
-                   ? unshadowed(reservoir, s)
-                   : glm::vec3(0.0f);
+          paths(scene, rays, light_set, ray_offset, settings.max_depth),
+          accumulation(settings.width, settings.height) {
+        if (settings.method == Method::restir)
+            restir.emplace(settings, blocks, gbuffer, *candidates, light_set, paths, camera,
+                           previous_camera);
     }
 
     // One uniformly chosen light sample as a one-candidate reservoir: W = 1 / p, so that
     // f W = f / p (shaded after its shadow ray, as RIS's are).
     Reservoir uniform_reservoir(const GSurface& s, restir::Pcg32& rng) const {
-        const restir::DiscreteSample c =
-            restir::sample_light(restir::UniformLightSampler{lights.light_count()}, rng);
+        const restir::DiscreteSample c = restir::sample_light(
+            restir::UniformLightSampler{light_set.lights().light_count()}, rng);
         const float u = next_float(rng);
         const float v = next_float(rng);
         Reservoir reservoir;
@@ -508,362 +71,12 @@ struct Renderer::Impl {
             return reservoir;
         const restir::LightSampleRef ref{c.index, {u, v}};
         const restir::LightPointSample sample = restir::make_light_point_sample(
-            ref.light_id, lights.sample_point(ref.light_id, ref.uv), falloff);
+            ref.light_id, light_set.lights().sample_point(ref.light_id, ref.uv),
+            light_set.falloff());
         const float target = point_target(sample, s);
         reservoir.stream(sample, target / c.pmf, target, 0.0f);
         reservoir.finalize();
         return reservoir;
-    }
-
-    // --- ReSTIR: the library's frame recipe (restir/reuse/di_frame.hpp), its visibility rays
-    // traced by the renderer as packets per 8 x 8 block ---------------------------------------
-
-    // The previous camera's pixel of this frame's surface at `p` (temporal reuse).
-    struct CameraReprojection {
-        const Impl* im = nullptr;
-        restir::PixelCoord operator()(restir::PixelCoord p) const {
-            const GSurface& s =
-                im->gbuffer.surfaces()[static_cast<std::size_t>(p.x) +
-                                       static_cast<std::size_t>(p.y) * im->settings.width];
-            glm::vec2 q;
-            if (!im->previous_camera.project(s.position, q))
-                return {-1, -1};
-            return {static_cast<std::int32_t>(std::floor(q.x)),
-                    static_cast<std::int32_t>(std::floor(q.y))};
-        }
-    };
-    // A stored light point back as the sample it was made from: every light of the renderer
-    // (flat emitter triangles of one radiance, sampled by area; VPLs) has one normal, radiance
-    // and pdf over its whole surface, so its id and the position determine the sample.
-    struct LightPointDecoder {
-        const Impl* im = nullptr;
-        restir::LightPointSample operator()(std::uint32_t id, glm::vec3 position) const {
-            if (id >= im->lights.light_count())
-                return {.light_id = restir::removed_light};
-            restir::LightPointSample s = restir::make_light_point_sample(
-                id, im->lights.sample_point(id, glm::vec2(0.0f)), im->falloff);
-            s.position = position;
-            return s;
-        }
-    };
-    // The recipe with last frame's reservoirs viewed, or stored packed (--packed-history).
-    using DiFrame = restir::DiFrame<restir::LightPointSample, GSurface, CameraReprojection>;
-    using PackedDiFrame = restir::DiFrame<restir::LightPointSample, GSurface, CameraReprojection,
-                                          restir::PackedPointHistory<LightPointDecoder>>;
-
-    // The settings' recipe, a spatial radius of 0 made 30 px per 1080 rows (at least 3).
-    restir::DiFrameParams di_frame_params() const {
-        restir::DiFrameParams p = settings.di_frame;
-        if (!(p.spatial.radius > 0.0f))
-            p.spatial.radius =
-                std::max(3.0f, 30.0f * static_cast<float>(settings.height) / 1080.0f);
-        p.deferred_visibility = true; // test_visibility and trace_mis_rays trace in packets
-        return p;
-    }
-    // This frame's recipe; `history` false after a new VPL set (last frame's samples belong to
-    // another integrand) and in frame 0.
-    template <class Frame>
-    Frame di_frame(std::uint32_t frame, bool history) const {
-        const std::uint32_t w = settings.width, h = settings.height;
-        Frame f{.params = di_frame_params(),
-                .frame_index = frame,
-                .surfaces = {gbuffer.surfaces().data(), w, h},
-                .reproject = {this},
-                .offsets = offsets};
-        if (history && frame > 0) {
-            f.previous_surfaces = {gbuffer.previous_surfaces().data(), w, h};
-            if constexpr (Frame::loads_history)
-                f.history = {{stored_history.data(), w, h}, {this}};
-            else
-                f.history = {previous_reservoirs.data(), w, h};
-        }
-        return f;
-    }
-    restir::ImageView<const Reservoir> view_of(const ReservoirBuffer& buffer) const {
-        return {buffer.data(), settings.width, settings.height};
-    }
-    static restir::PixelCoord coord(std::uint32_t x, std::uint32_t y) {
-        return {static_cast<std::int32_t>(x), static_cast<std::int32_t>(y)};
-    }
-    auto reuse_bridge() const {
-        return restir::ReuseBridge{[this](const restir::LightPointSample& sample,
-                                          const GSurface& s) { return point_target(sample, s); },
-                                   point_visibility()};
-    }
-
-    // Stage 1: initial candidates into `reservoirs`, tested for visibility.
-    template <class Frame>
-    void di_initial(const Frame& f) {
-        const auto reservoir_at = [this](std::uint32_t i) -> Reservoir& { return reservoirs[i]; };
-        for_each_block_by_tile(f.frame_index, [&](const PixelBlock& block) {
-            for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
-                reservoirs[i] = Reservoir{};
-                if (!gbuffer.surfaces()[i].valid)
-                    return;
-                restir::Pcg32 rng = restir::make_pixel_rng(
-                    i, f.frame_index, restir::RngStream::initial, settings.seed);
-                reservoirs[i] = initial_reservoir(x, y, f.frame_index, gbuffer.surfaces()[i], rng);
-            });
-            // The recipe's `initial` with deferred visibility: this packet.
-            test_visibility(block, reservoir_at, [&](std::uint32_t i) {
-                return f.needs_visibility_test(reservoirs[i]);
-            });
-        });
-    }
-
-    // Stage 2: temporal reuse from `reservoirs` into `scratch`, then swapped; the MIS ray
-    // towards the history's surface traced ahead, and the results that a spatial pass reads
-    // retested (a pixel that kept its own sample needs no ray).
-    template <class Frame>
-    void di_temporal(const Frame& f) {
-        const auto reservoir_at = [this](std::uint32_t i) -> Reservoir& { return reservoirs[i]; };
-        const auto scratch_at = [this](std::uint32_t i) -> Reservoir& { return scratch[i]; };
-        const bool mis_rays = f.mis_weights_trace_rays();
-        for_each_block([&](const PixelBlock& block) {
-            // Each pixel's history looked up once: its MIS ray is traced ahead, then combined.
-            std::array<decltype(f.temporal_input({})), pixel_block * pixel_block> inputs;
-            std::uint32_t k = 0;
-            for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t) {
-                inputs[k++] = f.temporal_input(coord(x, y));
-            });
-            std::array<MisRayCache, pixel_block * pixel_block> caches;
-            if (mis_rays)
-                trace_mis_rays(
-                    block, reservoir_at,
-                    [&](std::uint32_t local, std::array<const GSurface*, max_cached_rays>& out) {
-                        out[0] = inputs[local].surface;
-                        return out[0] != nullptr ? 1u : 0u;
-                    },
-                    caches);
-            k = 0;
-            for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
-                restir::Pcg32 rng = restir::make_pixel_rng(
-                    i, f.frame_index, restir::RngStream::temporal, settings.seed);
-                scratch[i] = f.temporal_combine(coord(x, y), reservoirs[i], inputs[k],
-                                                cached_bridge(caches[k]), rng);
-                ++k;
-            });
-            if (f.params.spatial_passes > 0)
-                test_visibility(block, scratch_at, [&](std::uint32_t i) {
-                    return f.needs_visibility_test(scratch[i], reservoirs[i]);
-                });
-        });
-        std::swap(reservoirs, scratch);
-    }
-
-    // Stage 3, one pass from `reservoirs` into `scratch`, then swapped: in two steps, so that
-    // the MIS rays of the whole block go out as packets in between (the neighbours found, the
-    // rays from each pixel's own sample towards them traced, then the reservoirs combined with a
-    // bridge that answers those rays and targets from the cache).
-    template <class Frame>
-    void di_spatial(const Frame& f, std::uint32_t pass) {
-        const auto reservoir_at = [this](std::uint32_t i) -> Reservoir& { return reservoirs[i]; };
-        const auto scratch_at = [this](std::uint32_t i) -> Reservoir& { return scratch[i]; };
-        const restir::ImageView<const Reservoir> input = view_of(reservoirs);
-        const bool mis_rays = f.mis_weights_trace_rays();
-        for_each_block([&](const PixelBlock& block) {
-            constexpr std::uint32_t pixels = pixel_block * pixel_block;
-            using Input = restir::ReuseInput<restir::LightPointSample, GSurface>;
-            std::array<std::array<Input, restir::max_reuse_inputs>, pixels> inputs;
-            std::array<std::uint32_t, pixels> counts{};
-            std::array<restir::Pcg32, pixels> rngs;
-            std::uint32_t k = 0;
-            for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
-                rngs[k] = restir::make_pixel_rng(i, f.frame_index,
-                                                 restir::RngStream::spatial + pass, settings.seed);
-                const auto set =
-                    f.spatial_neighbours(coord(x, y), input, restir::AnyMaterial{}, rngs[k]);
-                for (std::uint32_t j = 0; j < set.size(); ++j)
-                    inputs[k][j] = set[j];
-                counts[k++] = set.size();
-            });
-            std::array<MisRayCache, pixels> caches;
-            if (mis_rays)
-                trace_mis_rays(
-                    block, reservoir_at,
-                    [&](std::uint32_t local, std::array<const GSurface*, max_cached_rays>& out) {
-                        for (std::uint32_t j = 0; j < counts[local]; ++j)
-                            out[j] = inputs[local][j].surface;
-                        return counts[local];
-                    },
-                    caches);
-            k = 0;
-            for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
-                scratch[i] =
-                    f.spatial_combine(coord(x, y), pass, input,
-                                      restir::ReuseInputSpan<restir::LightPointSample, GSurface>{
-                                          inputs[k].data(), counts[k]},
-                                      cached_bridge(caches[k]), rngs[k]);
-                ++k;
-            });
-            if (pass + 1u < f.params.spatial_passes)
-                test_visibility(block, scratch_at, [&](std::uint32_t i) {
-                    return f.needs_visibility_test(scratch[i], reservoirs[i]);
-                });
-        });
-        std::swap(reservoirs, scratch);
-    }
-
-    // Stage 4: the boiling filter (empties reservoirs far brighter than their neighbourhood;
-    // they stay empty in the history too).
-    template <class Frame>
-    void di_boiling(const Frame& f) {
-        const restir::ImageView<const Reservoir> input = view_of(reservoirs);
-        for_each_block([&](const PixelBlock& block) {
-            for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
-                scratch[i] = f.boiling(coord(x, y), input);
-            });
-        });
-        std::swap(reservoirs, scratch);
-    }
-
-    // Stage 5 and shading: the final visibility ray, which with visibility reuse zeroes W of an
-    // occluded sample before the reservoir is stored as next frame's history.
-    template <class Frame>
-    void di_finish_and_shade(const Frame& f, Image& image) {
-        const auto reservoir_at = [this](std::uint32_t i) -> Reservoir& { return reservoirs[i]; };
-        for_each_block([&](const PixelBlock& block) {
-            test_visibility(block, reservoir_at, [&](std::uint32_t i) {
-                return f.needs_visibility_test(reservoirs[i]);
-            });
-            for_each_pixel_of(block, [&](std::uint32_t, std::uint32_t, std::uint32_t i) {
-                const GSurface& s = gbuffer.surfaces()[i];
-                glm::vec3 color(0.0f);
-                if (s.valid) {
-                    // The recipe's `finish` with deferred visibility: the packet above.
-                    const Reservoir& reservoir = reservoirs[i];
-                    color = s.emitted + (f.params.reuse.visibility_reuse ? unshadowed(reservoir, s)
-                                                                         : shade(reservoir, s));
-                    if (settings.gi == GlobalIllumination::path) {
-                        restir::Pcg32 rng = restir::make_pixel_rng(
-                            i, f.frame_index, RenderStream::path, settings.seed);
-                        color += path_radiance(s, rng, false, true);
-                    }
-                }
-                image.pixels[i] = color;
-                if constexpr (Frame::loads_history)
-                    stored_history[i] = restir::pack_reservoir(reservoirs[i]);
-            });
-        });
-    }
-
-    // One ReSTIR frame: the G-buffer, then the recipe's stages, timed by phase.
-    void restir_frame(std::uint32_t frame, bool history, Image& image, FrameTimings& t) {
-        auto start = Clock::now();
-        gbuffer.keep_as_previous();
-        gbuffer.trace(camera, frame);
-        t.primary = milliseconds_since(start);
-        start = Clock::now();
-        fill_tiles(frame);
-        t.tiles = milliseconds_since(start);
-        if (settings.packed_history) {
-            di_stages(di_frame<PackedDiFrame>(frame, history), image, t);
-        } else {
-            std::swap(reservoirs, previous_reservoirs); // last frame's result: the history
-            di_stages(di_frame<DiFrame>(frame, history), image, t);
-        }
-    }
-    // The recipe's stages, timed by phase.
-    template <class Frame>
-    void di_stages(const Frame& f, Image& image, FrameTimings& t) {
-        auto start = Clock::now();
-        di_initial(f);
-        t.candidates = milliseconds_since(start);
-        start = Clock::now();
-        if (f.has_history())
-            di_temporal(f);
-        t.temporal = milliseconds_since(start);
-        start = Clock::now();
-        for (std::uint32_t pass = 0; pass < f.params.spatial_passes; ++pass)
-            di_spatial(f, pass);
-        if (f.params.boiling_filter)
-            di_boiling(f);
-        t.spatial = milliseconds_since(start);
-        start = Clock::now();
-        di_finish_and_shade(f, image);
-        t.shading = milliseconds_since(start);
-    }
-
-    // --- Path tracing ----------------------------------------------------------------------
-    // Emitters by power with MIS against cosine sampling; VPLs by power (no MIS: delta).
-    // Kept inline in path_radiance: the compiler fuses multiplies and adds across the call
-    // (FMA), so the image's last bits depend on it.
-    [[gnu::always_inline]] glm::vec3 emitter_nee(const GSurface& s, restir::Pcg32& rng) const {
-        const restir::DiscreteSample c =
-            restir::sample_light(restir::PowerLightSampler{emitter_table.view()}, rng);
-        const float u = next_float(rng);
-        const float v = next_float(rng);
-        if (!(c.pmf > 0.0f))
-            return glm::vec3(0.0f);
-        const restir::LightSampleRef ref{c.index, {u, v}};
-        const restir::LightSample light = lights.sample_point(ref.light_id, ref.uv);
-        const glm::vec3 to_light = light.position - s.position;
-        const float d2 = glm::dot(to_light, to_light);
-        const glm::vec3 w = to_light / std::sqrt(d2);
-        const float cos_light = -glm::dot(light.normal, w);
-        const float cos_surface = glm::dot(s.normal, w);
-        if (!(cos_light > 0.0f) || !(cos_surface > 0.0f) || !visible(ref, s))
-            return glm::vec3(0.0f);
-        const float light_pdf = c.pmf * light.area_pdf * d2 / cos_light; // solid angle
-        const float bsdf_pdf = restir::diffuse_direction_pdf(s.normal, w);
-        return reflected(s, light) / c.pmf * (light_pdf / (light_pdf + bsdf_pdf));
-    }
-
-    glm::vec3 vpl_nee(const GSurface& s, restir::Pcg32& rng) const {
-        if (vpls.empty())
-            return glm::vec3(0.0f);
-        const restir::DiscreteSample c =
-            restir::sample_light(restir::PowerLightSampler{vpl_table.view()}, rng);
-        if (!(c.pmf > 0.0f))
-            return glm::vec3(0.0f);
-        const restir::LightSampleRef ref{emitters.light_count() + c.index, {0.0f, 0.0f}};
-        if (!visible(ref, s))
-            return glm::vec3(0.0f);
-        return reflected(s, lights.sample_point(ref.light_id, ref.uv)) / c.pmf;
-    }
-
-    // Radiance reflected at `start` towards the previous vertex (its own emission excluded).
-    // With `direct` the emitters' direct light at `start` is included (NEE + MIS); without it,
-    // the caller has estimated it, and only light that bounced at least once more is added.
-    // `bounce_further` continues beyond the first bounce (gi path; otherwise the path stops
-    // after the cosine-sampled ray that MIS needs).
-    glm::vec3 path_radiance(const GSurface& start, restir::Pcg32& rng, bool direct,
-                            bool bounce_further) const {
-        glm::vec3 radiance(0.0f);
-        glm::vec3 throughput(1.0f);
-        GSurface s = start;
-        for (std::uint32_t depth = 0;; ++depth) {
-            if (direct)
-                radiance += throughput * emitter_nee(s, rng);
-            if (depth + 1 >= settings.max_depth || (!direct && !bounce_further && depth > 0))
-                break;
-            const glm::vec3 direction = sample_cosine(s.normal, rng);
-            const Hit hit = rays.closest_hit(s.position + s.normal * ray_offset, direction);
-            if (!hit.found)
-                break;
-            throughput *= s.albedo; // f cos / pdf of cosine sampling
-            const std::uint32_t emitter = emitters.emitter_of_triangle(hit.triangle);
-            if (direct && emitter != TriangleEmitters::none &&
-                glm::dot(hit.normal, direction) < 0.0f) {
-                const float cos_light = -glm::dot(hit.normal, direction);
-                const float light_pdf = emitter_table.pmf(emitter) / emitters.area(emitter) *
-                                        hit.distance * hit.distance / cos_light;
-                const float bsdf_pdf = restir::diffuse_direction_pdf(s.normal, direction);
-                radiance +=
-                    throughput * emitters.radiance(emitter) * (bsdf_pdf / (bsdf_pdf + light_pdf));
-            }
-            if (!bounce_further)
-                break;
-            if (depth >= 2) { // Russian roulette
-                const float survival = std::min(0.95f, max_component(throughput));
-                if (!(survival > 0.0f) || next_float(rng) >= survival)
-                    break;
-                throughput /= survival;
-            }
-            s = surface_at(scene, hit, direction);
-            direct = true;
-        }
-        return radiance;
     }
 
     // --- Frames ----------------------------------------------------------------------------
@@ -874,24 +87,24 @@ struct Renderer::Impl {
         FrameTimings t;
         const auto frame_start = Clock::now();
         const bool new_vpl_set = reshoot_vpls();
-        if (frames_rendered == 0 || new_vpl_set)
+        if (accumulation.frames() == 0 || new_vpl_set)
             t.photons = light_set.photon_ms();
         if (settings.motion == CameraMotion::orbit)
-            orbit_camera(frames_rendered);
+            orbit_camera(accumulation.frames());
         if (settings.method == Method::restir)
-            restir_frame(frames_rendered, !new_vpl_set, frame_image, t);
+            restir->render(accumulation.frames(), !new_vpl_set, accumulation.frame(), t);
         else
-            independent_frame(frames_rendered, t);
-        accumulate();
+            independent_frame(accumulation.frames(), t);
+        accumulation.add_frame();
         t.total = milliseconds_since(frame_start);
         return t;
     }
 
     // A new VPL set every `vpl_reshoot_interval` frames: true when this frame shot one.
     bool reshoot_vpls() {
-        const bool new_vpl_set = light_set.reshoot_vpls(frames_rendered);
+        const bool new_vpl_set = light_set.reshoot_vpls(accumulation.frames());
         if (new_vpl_set)
-            build_light_bounds();
+            candidates->use_light_set();
         return new_vpl_set;
     }
 
@@ -912,7 +125,8 @@ struct Renderer::Impl {
     // uniform, ris and reference: `spp` independent samples per pixel, each with its own
     // G-buffer (and light tiles for ris), averaged into the frame image.
     void independent_frame(std::uint32_t frame, FrameTimings& t) {
-        std::fill(frame_image.pixels.begin(), frame_image.pixels.end(), glm::vec3(0.0f));
+        std::fill(accumulation.frame().pixels.begin(), accumulation.frame().pixels.end(),
+                  glm::vec3(0.0f));
         for (std::uint32_t sample = 0; sample < settings.spp; ++sample) {
             const std::uint32_t index = frame * settings.spp + sample;
             auto start = Clock::now();
@@ -920,7 +134,7 @@ struct Renderer::Impl {
             t.primary += milliseconds_since(start);
             if (settings.method == Method::ris) {
                 start = Clock::now();
-                fill_tiles(index);
+                candidates->prepare_frame(index, gbuffer.surfaces());
                 t.tiles += milliseconds_since(start);
             }
             start = Clock::now();
@@ -928,9 +142,9 @@ struct Renderer::Impl {
                 shade_independent(block, index);
             };
             if (settings.method == Method::ris)
-                for_each_block_by_tile(index, shade_block);
+                candidates->for_each_block_in_draw_order(blocks, index, shade_block);
             else
-                for_each_block(shade_block);
+                blocks.for_each_block(shade_block);
             t.shading += milliseconds_since(start);
         }
     }
@@ -939,13 +153,14 @@ struct Renderer::Impl {
     // uniform and ris: one light sample per pixel as a reservoir (uniform: one candidate,
     // W = 1 / p), their shadow rays as one packet; reference: a path per pixel.
     void shade_independent(const PixelBlock& block, std::uint32_t index) {
-        std::array<Reservoir, pixel_block * pixel_block> picked;
-        std::array<restir::Pcg32, pixel_block * pixel_block> rngs;
+        std::array<Reservoir, pixels_per_block> picked;
+        std::array<restir::Pcg32, pixels_per_block> rngs;
         const auto local = [&block, this](std::uint32_t i) {
-            return (i / settings.width - block.y0) * pixel_block + i % settings.width - block.x0;
+            return (i / settings.width - block.y0) * pixel_block_side + i % settings.width -
+                   block.x0;
         };
         const bool light_sample = settings.method != Method::reference;
-        for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
+        blocks.for_each_pixel_of(block, [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
             restir::Pcg32& rng = rngs[local(i)];
             rng = restir::make_pixel_rng(i, index, RenderStream::independent, settings.seed);
             Reservoir& reservoir = picked[local(i)];
@@ -953,16 +168,19 @@ struct Renderer::Impl {
             const GSurface& s = gbuffer.surfaces()[i];
             if (!s.valid || !light_sample)
                 return;
-            reservoir = settings.method == Method::ris ? initial_reservoir(x, y, index, s, rng)
-                                                       : uniform_reservoir(s, rng);
+            reservoir = settings.method == Method::ris
+                            ? candidates->initial_reservoir(x, y, index, s, rng)
+                            : uniform_reservoir(s, rng);
         });
         if (light_sample)
-            test_visibility(block, [&](std::uint32_t i) -> Reservoir& { return picked[local(i)]; });
-        for_each_pixel_of(block, [&](std::uint32_t, std::uint32_t, std::uint32_t i) {
+            gbuffer.test_visibility(
+                block, [&](std::uint32_t i) -> Reservoir& { return picked[local(i)]; });
+        blocks.for_each_pixel_of(block, [&](std::uint32_t, std::uint32_t, std::uint32_t i) {
             const GSurface& s = gbuffer.surfaces()[i];
             if (s.valid)
-                frame_image.pixels[i] += independent_radiance(s, picked[local(i)], rngs[local(i)]) /
-                                         static_cast<float>(settings.spp);
+                accumulation.frame().pixels[i] +=
+                    independent_radiance(s, picked[local(i)], rngs[local(i)]) /
+                    static_cast<float>(settings.spp);
         });
     }
 
@@ -974,25 +192,15 @@ struct Renderer::Impl {
         const bool gi_path = settings.gi == GlobalIllumination::path;
         glm::vec3 color = s.emitted;
         if (settings.method == Method::reference) {
-            color += path_radiance(s, rng, true, gi_path);
+            color += paths.path_radiance(s, rng, true, gi_path);
             if (settings.gi == GlobalIllumination::vpl)
-                color += vpl_nee(s, rng);
+                color += paths.vpl_nee(s, rng);
         } else {
             color += unshadowed(picked, s);
             if (gi_path)
-                color += path_radiance(s, rng, false, true);
+                color += paths.path_radiance(s, rng, false, true);
         }
         return color;
-    }
-
-    // The frame image added to the sum; the accumulation is the sum's average.
-    void accumulate() {
-        ++frames_rendered;
-        const double inverse = 1.0 / frames_rendered;
-        for (std::size_t i = 0; i < sum.size(); ++i) {
-            sum[i] += glm::dvec3(frame_image.pixels[i]);
-            accumulated.pixels[i] = glm::vec3(sum[i] * inverse);
-        }
     }
 };
 
@@ -1022,14 +230,14 @@ Renderer::~Renderer() = default;
 
 FrameTimings Renderer::render_frame() { return impl_->render_frame(); }
 
-const Image& Renderer::accumulated() const { return impl_->accumulated; }
-const Image& Renderer::last_frame() const { return impl_->frame_image; }
-std::uint32_t Renderer::frames_rendered() const { return impl_->frames_rendered; }
+const Image& Renderer::accumulated() const { return impl_->accumulation.average(); }
+const Image& Renderer::last_frame() const { return impl_->accumulation.frame(); }
+std::uint32_t Renderer::frames_rendered() const { return impl_->accumulation.frames(); }
 std::uint32_t Renderer::photons_per_set() const {
     return impl_->light_set.photons_per_set().value_or(0u);
 }
-const std::vector<restir::Vpl>& Renderer::vpls() const { return impl_->vpls; }
-std::uint32_t Renderer::emitter_count() const { return impl_->emitters.light_count(); }
+const std::vector<restir::Vpl>& Renderer::vpls() const { return impl_->light_set.vpls(); }
+std::uint32_t Renderer::emitter_count() const { return impl_->light_set.emitters().light_count(); }
 
 std::size_t Renderer::surface_pixel_count() const {
     return static_cast<std::size_t>(std::count_if(impl_->gbuffer.surfaces().begin(),

@@ -1,15 +1,16 @@
-// The streamed reuse step (one function per bias correction, inputs visited one at a time)
-// gives bit for bit what the array-based step before it gave (tests/reuse/legacy_combine.hpp),
-// for every mode, visibility setting, input count and malformed input (compiled with
-// -ffp-contract=off: tests/CMakeLists.txt).
+// Properties of the streamed reuse step (one function per bias correction, inputs visited one
+// at a time through a set): a set that computes its inputs on demand gives exactly what an
+// array of the same inputs gives (and draws the same random numbers), a slot that lends
+// nothing or a malformed reservoir takes part as if it were absent, a set's cap equals capping
+// the reservoirs themselves, and the result's M is the sum of the M that took part. For every
+// mode and visibility setting. Compiled with -ffp-contract=off (tests/CMakeLists.txt): the two
+// sets instantiate the step twice, and the compiler may contract the two copies differently.
 #include <restir/restir.hpp>
 
-#include "reuse/legacy_combine.hpp"
 #include "reuse/synthetic_image.hpp"
 
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -38,53 +39,155 @@ Reservoir<LightId> random_reservoir(std::uint32_t s, std::uint32_t candidates, r
     return r;
 }
 
-TEST(StreamedReuse, EqualsTheArrayBasedStepBitForBit) {
-    restir::Pcg32 rng = restir::make_pixel_rng(7u, 0u, 0u);
-    std::uint32_t compared = 0, differing_samples = 0;
-    for (std::uint32_t trial = 0; trial < 4000; ++trial) {
-        // Surfaces: the receiver and up to 15 inputs on random patches.
-        const std::uint32_t count = restir::uniform_index(next_float(rng), 16u);
-        std::vector<Patch> patches(count + 1u);
-        std::vector<Reservoir<LightId>> reservoirs(count + 1u);
-        for (std::uint32_t i = 0; i <= count; ++i) {
-            patches[i] = {restir::uniform_index(next_float(rng), pixel_count), true};
-            reservoirs[i] = random_reservoir(patches[i].id, 1u + trial % 40u, rng);
-        }
-        // Now and then a malformed input or an occluded (W = 0) one.
-        if (count > 0u && trial % 7u == 0u)
-            reservoirs[1].weight_sum = std::numeric_limits<float>::quiet_NaN();
-        if (count > 1u && trial % 5u == 0u)
-            restir::apply_visibility(reservoirs[2], false);
-        std::vector<Input> inputs(count);
-        for (std::uint32_t i = 0; i < count; ++i)
-            inputs[i] = {&reservoirs[i + 1u], &patches[i + 1u]};
+// A set that computes its inputs on demand, as the library's spatial and fused sets do: slot i
+// lends pixel i + 1 of the buffers, except the slots of `holes`, which lend nothing.
+struct ComputedInputs {
+    const Reservoir<LightId>* reservoirs = nullptr;
+    const Patch* patches = nullptr;
+    std::uint32_t slots = 0u;
+    std::uint32_t holes = 0u; // bit i: slot i lends nothing
+    std::uint32_t candidate_cap = restir::no_candidate_cap;
+    std::uint32_t size() const { return slots; }
+    Input operator[](std::uint32_t i) const {
+        if ((holes >> i) & 1u)
+            return {};
+        return {&reservoirs[i + 1u], &patches[i + 1u]};
+    }
+};
 
-        for (BiasCorrection mode : {BiasCorrection::none, BiasCorrection::one_over_z,
-                                    BiasCorrection::balance_heuristic, BiasCorrection::pairwise})
+// A receiver and up to 15 inputs on random patches: buffer slot 0 is the receiver.
+struct Trial {
+    std::vector<Patch> patches;
+    std::vector<Reservoir<LightId>> reservoirs;
+    std::uint32_t count = 0u; // inputs
+};
+
+Trial random_trial(std::uint32_t trial, restir::Pcg32& rng) {
+    Trial t;
+    t.count = restir::uniform_index(next_float(rng), 16u);
+    t.patches.resize(t.count + 1u);
+    t.reservoirs.resize(t.count + 1u);
+    for (std::uint32_t i = 0; i <= t.count; ++i) {
+        t.patches[i] = {restir::uniform_index(next_float(rng), pixel_count), true};
+        t.reservoirs[i] = random_reservoir(t.patches[i].id, 1u + trial % 40u, rng);
+    }
+    // Now and then a malformed input or an occluded (W = 0) one.
+    if (t.count > 0u && trial % 7u == 0u)
+        t.reservoirs[1].weight_sum = std::numeric_limits<float>::quiet_NaN();
+    if (t.count > 1u && trial % 5u == 0u)
+        restir::apply_visibility(t.reservoirs[2], false);
+    return t;
+}
+
+constexpr BiasCorrection modes[] = {BiasCorrection::none, BiasCorrection::one_over_z,
+                                    BiasCorrection::balance_heuristic, BiasCorrection::pairwise};
+
+restir::ReuseParams params_of(BiasCorrection mode, int variant) {
+    restir::ReuseParams params{mode, variant != 3, variant != 2};
+    params.inputs_visibility_tested = variant == 1;
+    return params;
+}
+
+// Equal bit for bit, and the two generators left in the same state.
+void expect_same(const Reservoir<LightId>& a, const Reservoir<LightId>& b, restir::Pcg32 rng_a,
+                 restir::Pcg32 rng_b, std::uint32_t trial) {
+    ASSERT_EQ(a.sample.id, b.sample.id) << "trial " << trial;
+    ASSERT_EQ(a.candidate_count, b.candidate_count) << "trial " << trial;
+    ASSERT_EQ(a.weight_sum, b.weight_sum) << "trial " << trial;
+    ASSERT_EQ(a.target_value, b.target_value) << "trial " << trial;
+    ASSERT_EQ(a.contribution_weight, b.contribution_weight) << "trial " << trial;
+    ASSERT_EQ(rng_a.next_uint(), rng_b.next_uint()) << "the same random numbers drawn";
+}
+
+// The computed set, with holes and a cap, against an array of the inputs that take part, the
+// capped ones capped beforehand; the result's M is the receiver's plus the inputs' capped M.
+TEST(StreamedReuse, ComputedSetEqualsTheArrayOfItsInputs) {
+    restir::Pcg32 rng = restir::make_pixel_rng(7u, 0u, 0u);
+    std::uint32_t compared = 0, borrowed = 0;
+    for (std::uint32_t trial = 0; trial < 4000; ++trial) {
+        Trial t = random_trial(trial, rng);
+        ComputedInputs set{t.reservoirs.data(), t.patches.data(), t.count};
+        set.holes = trial % 3u == 0u ? rng.next_uint() : 0u;
+        set.candidate_cap = trial % 4u == 0u ? 1u + trial % 30u : restir::no_candidate_cap;
+
+        std::vector<Reservoir<LightId>> capped(t.count + 1u);
+        std::vector<Input> array;
+        std::uint32_t expected_m = t.reservoirs[0].candidate_count;
+        for (std::uint32_t i = 0; i < t.count; ++i) {
+            if (set[i].reservoir == nullptr)
+                continue;
+            capped[i + 1u] = t.reservoirs[i + 1u];
+            capped[i + 1u].cap_candidate_count(set.candidate_cap);
+            array.push_back({&capped[i + 1u], &t.patches[i + 1u]});
+            if (capped[i + 1u].is_well_formed())
+                expected_m += capped[i + 1u].candidate_count;
+        }
+
+        for (BiasCorrection mode : modes)
             for (int variant = 0; variant < 4; ++variant) {
-                restir::ReuseParams params{mode, variant != 3, variant != 2};
-                params.inputs_visibility_tested = variant == 1;
+                const restir::ReuseParams params = params_of(mode, variant);
                 const restir::ReuseBridge bridge{StreamedTarget{}, StreamedVisibility{}};
                 restir::Pcg32 a =
                     restir::make_pixel_rng(trial, 1u, static_cast<std::uint32_t>(variant));
                 restir::Pcg32 b = a;
-                const Reservoir<LightId> old = restir::legacy::combine_reservoirs(
-                    reservoirs[0], patches[0], inputs.data(), count, params, bridge, a);
-                const Reservoir<LightId> streamed = restir::combine_reservoirs(
-                    reservoirs[0], patches[0], inputs.data(), count, params, bridge, b);
-                ASSERT_EQ(old.sample.id, streamed.sample.id) << "trial " << trial;
-                ASSERT_EQ(old.candidate_count, streamed.candidate_count) << "trial " << trial;
-                ASSERT_EQ(old.weight_sum, streamed.weight_sum) << "trial " << trial;
-                ASSERT_EQ(old.target_value, streamed.target_value) << "trial " << trial;
-                ASSERT_EQ(old.contribution_weight, streamed.contribution_weight)
-                    << "trial " << trial;
-                ASSERT_EQ(a.next_uint(), b.next_uint()) << "the same random numbers drawn";
+                const Reservoir<LightId> streamed =
+                    restir::combine_inputs(t.reservoirs[0], t.patches[0], set, params, bridge, a);
+                const Reservoir<LightId> gathered = restir::combine_reservoirs(
+                    t.reservoirs[0], t.patches[0], array.data(),
+                    static_cast<std::uint32_t>(array.size()), params, bridge, b);
+                ASSERT_NO_FATAL_FAILURE(expect_same(streamed, gathered, a, b, trial));
+                ASSERT_EQ(streamed.candidate_count, expected_m) << "trial " << trial;
                 ++compared;
-                differing_samples += old.sample.id != reservoirs[0].sample.id;
+                borrowed += streamed.sample.id != t.reservoirs[0].sample.id;
             }
     }
     EXPECT_EQ(compared, 4000u * 16u);
-    EXPECT_GT(differing_samples, compared / 4u) << "reuse should often pick a borrowed sample";
+    EXPECT_GT(borrowed, compared / 4u) << "reuse should often pick a borrowed sample";
+}
+
+// An input whose reservoir holds a non-finite or negative field (a corrupted buffer) changes
+// nothing: the result and the numbers drawn are those without it.
+TEST(StreamedReuse, MalformedInputTakesPartAsIfAbsent) {
+    restir::Pcg32 rng = restir::make_pixel_rng(11u, 0u, 0u);
+    for (std::uint32_t trial = 0; trial < 1000; ++trial) {
+        Trial t = random_trial(trial * 7u + 1u, rng); // never the NaN of random_trial
+        if (t.count == 0u)
+            continue;
+        const std::uint32_t bad = 1u + restir::uniform_index(next_float(rng), t.count);
+        switch (trial % 3u) {
+        case 0u:
+            t.reservoirs[bad].weight_sum = std::numeric_limits<float>::quiet_NaN();
+            break;
+        case 1u:
+            t.reservoirs[bad].contribution_weight = std::numeric_limits<float>::infinity();
+            break;
+        default:
+            t.reservoirs[bad].target_value = -1.0f;
+            break;
+        }
+        ASSERT_FALSE(t.reservoirs[bad].is_well_formed());
+        std::vector<Input> with, without;
+        for (std::uint32_t i = 1; i <= t.count; ++i) {
+            with.push_back({&t.reservoirs[i], &t.patches[i]});
+            if (i != bad)
+                without.push_back({&t.reservoirs[i], &t.patches[i]});
+        }
+        for (BiasCorrection mode : modes)
+            for (int variant = 0; variant < 4; ++variant) {
+                const restir::ReuseParams params = params_of(mode, variant);
+                const restir::ReuseBridge bridge{StreamedTarget{}, StreamedVisibility{}};
+                restir::Pcg32 a =
+                    restir::make_pixel_rng(trial, 2u, static_cast<std::uint32_t>(variant));
+                restir::Pcg32 b = a;
+                const Reservoir<LightId> r_with = restir::combine_reservoirs(
+                    t.reservoirs[0], t.patches[0], with.data(),
+                    static_cast<std::uint32_t>(with.size()), params, bridge, a);
+                const Reservoir<LightId> r_without = restir::combine_reservoirs(
+                    t.reservoirs[0], t.patches[0], without.data(),
+                    static_cast<std::uint32_t>(without.size()), params, bridge, b);
+                ASSERT_NO_FATAL_FAILURE(expect_same(r_with, r_without, a, b, trial));
+            }
+    }
 }
 
 } // namespace

@@ -1,0 +1,59 @@
+// How RIS candidates are drawn (--source): from light tiles presampled by power or uniformly
+// per pixel block, from the tiles of a world-space grid (ReGIR), or from a light BVH per pixel.
+// One interface for all: the source is chosen once, in make_initial_candidates.
+#pragma once
+
+#include "gbuffer.hpp"
+#include "light_set.hpp"
+#include "pixel_blocks.hpp"
+#include "renderer.hpp"
+#include "reservoir.hpp"
+
+#include <restir/restir.hpp>
+
+#include <cstdint>
+#include <memory>
+#include <span>
+
+namespace pt {
+
+/// The light tiles of --source power and uniform (the tiles that pixel blocks are grouped by).
+inline constexpr std::uint32_t light_tile_count = 128;
+
+/// The initial candidates of a pixel: what the source prepares per frame, and the RIS over it.
+class InitialCandidates {
+public:
+    virtual ~InitialCandidates() = default;
+
+    /// After a new VPL set: rebuilds what the source keeps of the light set.
+    virtual void use_light_set() {}
+    /// Draws what the candidates of frame (or sample) `frame_index` come from, for the
+    /// G-buffer `surfaces` just traced.
+    virtual void prepare_frame(std::uint32_t frame_index, std::span<const GSurface> surfaces) = 0;
+    /// RIS over the candidates of pixel (x, y) with surface `s` (valid) in `frame_index`.
+    virtual Reservoir initial_reservoir(std::uint32_t x, std::uint32_t y, std::uint32_t frame_index,
+                                        const GSurface& s, restir::Pcg32& rng) const = 0;
+
+    /// body(block) for every pixel block, the blocks that draw from one light tile together,
+    /// so that each tile is read from memory once.
+    template <class BlockBody>
+    void for_each_block_in_draw_order(const PixelBlocks& blocks, std::uint32_t frame_index,
+                                      BlockBody&& body) const {
+        const restir::LightTileArrays& tiles = block_tiles();
+        blocks.for_each_block_by_tile(
+            light_tile_count, [&](std::uint32_t b) { return tiles.tile_for(b, frame_index); },
+            body);
+    }
+
+protected:
+    /// The tiles that pixel blocks draw from (empty for sources that draw per pixel).
+    virtual const restir::LightTileArrays& block_tiles() const;
+};
+
+/// The source that `settings.source` names, over `lights`.
+std::unique_ptr<InitialCandidates> make_initial_candidates(const RenderSettings& settings,
+                                                           const Scene& scene,
+                                                           const LightSet& lights,
+                                                           const PixelBlocks& blocks);
+
+} // namespace pt

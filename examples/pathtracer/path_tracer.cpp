@@ -1,0 +1,110 @@
+#include "path_tracer.hpp"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace pt {
+
+namespace {
+
+float max_component(glm::vec3 c) { return std::max(c.x, std::max(c.y, c.z)); }
+
+// Cosine-distributed direction about `normal` (restir's emission sampler).
+glm::vec3 sample_cosine(glm::vec3 normal, restir::Pcg32& rng) {
+    const float u0 = next_float(rng);
+    const float u1 = next_float(rng);
+    return restir::sample_diffuse_direction(normal, u0, u1);
+}
+
+} // namespace
+
+glm::vec3 PathTracer::reflected(const GSurface& s, const restir::LightSample& light) const {
+    return s.albedo * restir::inv_pi *
+           restir::unshadowed_irradiance(light, s.position, s.normal, lights_.falloff());
+}
+
+bool PathTracer::visible(const restir::LightSampleRef& ref, const GSurface& s) const {
+    return restir::LightVisibility<Unified, EmbreeScene>{&lights_.lights(), &rays_,
+                                                         ray_offset_}(ref, s);
+}
+
+// One emitter by power with MIS against cosine sampling. Kept inline in path_radiance: the
+// compiler fuses multiplies and adds across the call (FMA), so the image's last bits depend on
+// it.
+[[gnu::always_inline]] inline glm::vec3 PathTracer::emitter_nee(const GSurface& s,
+                                                                restir::Pcg32& rng) const {
+    const restir::DiscreteSample c =
+        restir::sample_light(restir::PowerLightSampler{lights_.emitter_table().view()}, rng);
+    const float u = next_float(rng);
+    const float v = next_float(rng);
+    if (!(c.pmf > 0.0f))
+        return glm::vec3(0.0f);
+    const restir::LightSampleRef ref{c.index, {u, v}};
+    const restir::LightSample light = lights_.lights().sample_point(ref.light_id, ref.uv);
+    const glm::vec3 to_light = light.position - s.position;
+    const float d2 = glm::dot(to_light, to_light);
+    const glm::vec3 w = to_light / std::sqrt(d2);
+    const float cos_light = -glm::dot(light.normal, w);
+    const float cos_surface = glm::dot(s.normal, w);
+    if (!(cos_light > 0.0f) || !(cos_surface > 0.0f) || !visible(ref, s))
+        return glm::vec3(0.0f);
+    const float light_pdf = c.pmf * light.area_pdf * d2 / cos_light; // solid angle
+    const float bsdf_pdf = restir::diffuse_direction_pdf(s.normal, w);
+    return reflected(s, light) / c.pmf * (light_pdf / (light_pdf + bsdf_pdf));
+}
+
+glm::vec3 PathTracer::vpl_nee(const GSurface& s, restir::Pcg32& rng) const {
+    if (lights_.vpls().empty())
+        return glm::vec3(0.0f);
+    const restir::DiscreteSample c =
+        restir::sample_light(restir::PowerLightSampler{lights_.vpl_table().view()}, rng);
+    if (!(c.pmf > 0.0f))
+        return glm::vec3(0.0f);
+    const restir::LightSampleRef ref{lights_.emitters().light_count() + c.index, {0.0f, 0.0f}};
+    if (!visible(ref, s))
+        return glm::vec3(0.0f);
+    return reflected(s, lights_.lights().sample_point(ref.light_id, ref.uv)) / c.pmf;
+}
+
+glm::vec3 PathTracer::path_radiance(const GSurface& start, restir::Pcg32& rng, bool direct,
+                                    bool bounce_further) const {
+    const TriangleEmitters& emitters = lights_.emitters();
+    glm::vec3 radiance(0.0f);
+    glm::vec3 throughput(1.0f);
+    GSurface s = start;
+    for (std::uint32_t depth = 0;; ++depth) {
+        if (direct)
+            radiance += throughput * emitter_nee(s, rng);
+        if (depth + 1 >= max_depth_ || (!direct && !bounce_further && depth > 0))
+            break;
+        const glm::vec3 direction = sample_cosine(s.normal, rng);
+        const Hit hit = rays_.closest_hit(s.position + s.normal * ray_offset_, direction);
+        if (!hit.found)
+            break;
+        throughput *= s.albedo; // f cos / pdf of cosine sampling
+        const std::uint32_t emitter = emitters.emitter_of_triangle(hit.triangle);
+        if (direct && emitter != TriangleEmitters::none && glm::dot(hit.normal, direction) < 0.0f) {
+            const float cos_light = -glm::dot(hit.normal, direction);
+            const float light_pdf = lights_.emitter_table().pmf(emitter) / emitters.area(emitter) *
+                                    hit.distance * hit.distance / cos_light;
+            const float bsdf_pdf = restir::diffuse_direction_pdf(s.normal, direction);
+            radiance +=
+                throughput * emitters.radiance(emitter) * (bsdf_pdf / (bsdf_pdf + light_pdf));
+        }
+        if (!bounce_further)
+            break;
+        if (depth >= 2) { // Russian roulette
+            const float survival = std::min(0.95f, max_component(throughput));
+            if (!(survival > 0.0f) || next_float(rng) >= survival)
+                break;
+            throughput /= survival;
+        }
+        s = surface_at(scene_, hit, direction);
+        direct = true;
+    }
+    return radiance;
+}
+
+} // namespace pt
