@@ -189,6 +189,10 @@ TEST(Conformance, FrameRecipeInstantiatesWithStubTypes) {
         .history = {history.data(), 2u, 2u}};
     frame.params.spatial.radius = 1.0f;
     frame.params.boiling_filter = true;
+    for (restir::Reservoir<stub::Sample>& r : history) {
+        r.stream(stub::Sample{2u}, 1.0f, stub::Target{}(stub::Sample{2u}, surfaces[0]), 0.5f);
+        r.finalize();
+    }
     const restir::DiBuffers<stub::Sample> buffers{{out.data(), 2u, 2u}, {scratch.data(), 2u, 2u}};
     const auto initial = [](restir::PixelCoord, const stub::Surface& s, stub::Rng& rng) {
         restir::Reservoir<stub::Sample> r;

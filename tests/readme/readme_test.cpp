@@ -15,14 +15,14 @@ TEST(Readme, SnippetsCompileTogetherAndRun) {
     frame.snippets(); // fails in the sanitised debug build on any assertion or bad access
 }
 
-// The integration guide renders its frames, then the last frame again stage by stage as GPU
-// kernels would: the images are finite and non-negative, light reaches the floor, and the
-// stage-by-stage frame equals run_di_frame's.
+// The integration guide renders its frames, then the last frame again step by step as GPU
+// kernels would, and again per tile with batched rays: the images are finite and non-negative,
+// light reaches the floor, and the step-by-step and tiled frames equal run_di_frame's.
 TEST(Integration, SnippetsCompileTogetherAndRun) {
     integration::presented().clear();
     integration::render_frames();
     const auto& images = integration::presented();
-    ASSERT_EQ(images.size(), integration::frame_count + 1u);
+    ASSERT_EQ(images.size(), integration::frame_count + 2u);
     for (const auto& image : images) {
         double sum = 0.0;
         for (const glm::vec3& c : image) {
@@ -34,8 +34,11 @@ TEST(Integration, SnippetsCompileTogetherAndRun) {
     }
     const auto& by_run = images[integration::frame_count - 1u];
     const auto& by_stage = images[integration::frame_count];
-    for (std::size_t i = 0; i < by_run.size(); ++i)
+    const auto& by_tile = images[integration::frame_count + 1u];
+    for (std::size_t i = 0; i < by_run.size(); ++i) {
         EXPECT_EQ(by_run[i], by_stage[i]) << "pixel " << i;
+        EXPECT_EQ(by_run[i], by_tile[i]) << "pixel " << i;
+    }
 }
 
 } // namespace

@@ -350,7 +350,8 @@ TEST(DiFrame, TilesWithBatchedRaysEqualPixels) {
                 expect_same(tiles.render(frame, cut), expected, name);
                 expect_same(loaded_tiles.render(frame, cut), expected, name + ", loaded history");
             }
-            EXPECT_EQ(tiles.rays, pixels.rays) << variant.name << ": the same questions";
+            // The tiles answer a question asked twice (the balance heuristic's) once.
+            EXPECT_LE(tiles.rays, pixels.rays) << variant.name << ": no more rays";
             if (side > 1) {
                 EXPECT_LT(tiles.batches, tiles.rays) << variant.name << ": rays come in batches";
             }

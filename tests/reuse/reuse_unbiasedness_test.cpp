@@ -33,9 +33,9 @@ struct ReuseSetup {
     Passes passes;
     bool visibility_reuse = true;
     // Visibility tested again after every pass that feeds another, and the passes told that
-    // their inputs' own samples are tested (ReuseParams::inputs_visibility_tested).
+    // their inputs' own samples are tested (ReuseVisibility::traced_inputs_tested).
     bool retest = false;
-    bool mis_rays = true; // ReuseParams::trace_mis_visibility
+    bool mis_rays = true; // false: ReuseVisibility::assumed
 };
 
 std::string name_of(const ReuseSetup& s) {

@@ -83,9 +83,10 @@ constexpr BiasCorrection modes[] = {BiasCorrection::none, BiasCorrection::one_ov
                                     BiasCorrection::balance_heuristic, BiasCorrection::pairwise};
 
 restir::ReuseParams params_of(BiasCorrection mode, int variant) {
-    restir::ReuseParams params{mode, variant != 3, variant != 2};
-    params.inputs_visibility_tested = variant == 1;
-    return params;
+    constexpr restir::ReuseVisibility visibility[] = {
+        restir::ReuseVisibility::traced, restir::ReuseVisibility::traced_inputs_tested,
+        restir::ReuseVisibility::assumed, restir::ReuseVisibility::none};
+    return {mode, visibility[variant]};
 }
 
 // Equal bit for bit, and the two generators left in the same state.

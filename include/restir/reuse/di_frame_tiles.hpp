@@ -151,15 +151,20 @@ struct AnsweredVisibility {
 
 /// A stage's reuse over one tile: the inputs found per pixel, their MIS rays traced as one
 /// batch, then every pixel combined with a bridge that answers from them.
-template <class Frame, class Sample, class S, class Target, class Tracer, class MaterialTest>
+template <class Sample, class S, class Target, class Tracer, class MaterialTest>
 struct TileReuse {
-    const Frame& frame;
     const ReuseBridge<Target, Tracer, MaterialTest>& bridge;
+    /// Whether the pass's MIS weights ask about each pixel's own sample at every input's
+    /// surface (pairwise and the balance heuristic, with traced rays). 1/Z asks about the
+    /// sample it selects, known only after the selection: those rays go one at a time.
+    bool asks;
     TileQueries<Sample, S> queries;
     MisAnswers<Sample, S> answers[max_tile_pixels];
 
-    TileReuse(const Frame& f, const ReuseBridge<Target, Tracer, MaterialTest>& b)
-        : frame(f), bridge(b) {}
+    TileReuse(const ReuseBridge<Target, Tracer, MaterialTest>& b, const ReuseParams& reuse)
+        : bridge(b), asks(traces_mis_rays(reuse.visibility) &&
+                          (reuse.bias_correction == BiasCorrection::pairwise ||
+                           reuse.bias_correction == BiasCorrection::balance_heuristic)) {}
 
     /// Records the MIS questions of pixel `k`: its sample `canonical` at the surfaces of the
     /// lending inputs of `inputs` (a `ReuseInputs` set).
@@ -187,7 +192,6 @@ struct TileReuse {
                                          {&bridge.visibility, &answers[k], queries.visible},
                                          bridge.material_test};
     }
-    bool asks() const { return traces_mis_rays(frame.params.visibility); }
 };
 
 /// Tests the reservoirs of `output` in `tile` for which `needs(pixel, reservoir)` holds, as
@@ -248,7 +252,8 @@ void run_di_step(const DiFrame<Sample, S, Reproject, History, Surfaces>& frame,
                                      });
         return;
     case DiStage::temporal: {
-        detail::TileReuse<Frame, Sample, S, Target, Tracer, MaterialTest> reuse{frame, bridge};
+        detail::TileReuse<Sample, S, Target, Tracer, MaterialTest> reuse{
+            bridge, frame.temporal_reuse_params()};
         decltype(frame.temporal_input(PixelCoord{}, bridge)) found[max_tile_pixels];
         tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t k) {
             found[k] = frame.temporal_input(pixel, bridge);
@@ -257,7 +262,7 @@ void run_di_step(const DiFrame<Sample, S, Reproject, History, Surfaces>& frame,
                 lent = found[k].lending();
             else
                 lent = found[k];
-            if (reuse.asks() && input[pixel].has_sample())
+            if (reuse.asks && input[pixel].has_sample())
                 reuse.ask(k, input[pixel], SingleReuseInput<Sample, S>{lent});
         });
         reuse.queries.trace(bridge.visibility);
@@ -268,7 +273,8 @@ void run_di_step(const DiFrame<Sample, S, Reproject, History, Surfaces>& frame,
         break;
     }
     case DiStage::spatial: {
-        detail::TileReuse<Frame, Sample, S, Target, Tracer, MaterialTest> reuse{frame, bridge};
+        detail::TileReuse<Sample, S, Target, Tracer, MaterialTest> reuse{
+            bridge, frame.spatial_reuse_params()};
         using Rng = decltype(rng_for(PixelCoord{}, 0u));
         Rng rngs[max_tile_pixels];
         SpatialNeighbours<Sample, S, Surfaces> sets[max_tile_pixels];
@@ -278,7 +284,7 @@ void run_di_step(const DiFrame<Sample, S, Reproject, History, Surfaces>& frame,
             if (!frame.combines_at(pixel))
                 return;
             sets[k] = frame.neighbours(pixel, input, bridge, rngs[k]);
-            if (reuse.asks() && input[pixel].has_sample())
+            if (reuse.asks && input[pixel].has_sample())
                 reuse.ask(k, input[pixel], sets[k]);
         });
         reuse.queries.trace(bridge.visibility);
