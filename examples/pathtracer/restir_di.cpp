@@ -245,12 +245,6 @@ struct RestirDi::Stages {
     static restir::PixelCoord coord(std::uint32_t x, std::uint32_t y) {
         return {static_cast<std::int32_t>(x), static_cast<std::int32_t>(y)};
     }
-    auto reuse_bridge() const {
-        return restir::ReuseBridge{[this](const restir::LightPointSample& sample,
-                                          const GSurface& s) { return point_target(sample, s); },
-                                   point_visibility()};
-    }
-
     // Stage 1: initial candidates into `reservoirs`, tested for visibility.
     template <class Frame>
     void di_initial(const Frame& f) {
