@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
 # Builds benchmarks/cuda/di_pipeline for this machine's GPU and runs it: the ReSTIR DI pipeline
-# at 1920x1080, each pass timed with CUDA events and compared with the same pass on the CPU.
+# at 1920x1080 (G-buffer, light tiles, then the library's frame recipe, a kernel per step), each
+# pass and step timed with CUDA events (a row per stage) and compared with the same one on the
+# CPU. --mis-rays traces the MIS rays in reuse (ReuseVisibility::traced); the default is ray-free
+# reuse (assumed).
 # Arguments go to the program (--help lists them); NVCC_FLAGS adds compiler flags (for example
 # -I/path/to/glm where GLM is not installed).
 set -euo pipefail

@@ -1,9 +1,19 @@
 // The ReSTIR DI pipeline of restir-render as CUDA kernels over a 1920 x 1080 G-buffer of the
-// Cornell box, with VPLs shot on the GPU: each pass timed with CUDA events (median over the
-// timed frames), the same passes run on the CPU with the same inputs, and their results
-// compared pixel by pixel. Built by scripts/test.sh when nvcc is found; run it on a GPU with
+// Cornell box, with VPLs shot on the GPU. A frame is the G-buffer, the light tiles and the
+// library's frame recipe (restir::DiFrame): one kernel per `frame.step(i)`, chosen by its stage,
+// with the frame passed by value; the recipe decides the steps, their buffers and where rays
+// are traced. Each pass and step is timed with CUDA events (median over the timed frames), the
+// same ones run on the CPU (`run_pixel` over every pixel) with the same inputs, and their
+// results compared pixel by pixel. Built by scripts/test.sh when nvcc is found; run it on a
+// GPU with
 //   bash scripts/gpu-benchmark.sh                 (or build/cuda/di_pipeline --help)
-// Without a GPU, --cpu-only runs the CPU passes alone (and writes the image).
+// Without a GPU, --cpu-only runs the CPU side alone (and writes the image).
+//
+// The table's rows are the stages (box::Pass). Before the recipe ran the frame, the visibility
+// rays had rows of their own ("visibility", "final visibility") under ray-free reuse; they are
+// now inside the initial and finish rows in both modes (ray-free: `ReuseVisibility::assumed`;
+// --mis-rays: `traced`, where the reuse rows also hold the MIS rays), so those two rows include
+// the analytic scene's shadow rays, and only the G-buffer row is left out of the sum.
 #include "di_pipeline.hpp"
 
 #include <cuda_runtime.h>
@@ -26,6 +36,8 @@ namespace {
 
 using box::Context;
 using box::Pass;
+using restir::DiStage;
+using restir::DiStep;
 
 // --- Options --------------------------------------------------------------------------------
 
@@ -37,7 +49,8 @@ struct Options {
     std::uint32_t vpls = 100'000;   // about this many VPLs
     std::uint32_t threads = 0;      // CPU threads (0: all)
     std::string layout = "both";    // plain | packed | both
-    bool mis_rays = false;          // pairwise MIS with traced visibility (restir-render's)
+    bool mis_rays = false;          // traced MIS rays in reuse (ReuseVisibility::traced, as
+                                    // restir-render); without: assumed (ray-free reuse)
     bool cpu_only = false;
     std::string scene = "cornell";          // cornell | many-lights
     std::uint32_t lights = 100'000;         // many-lights: light quads
@@ -192,9 +205,10 @@ double median(std::vector<double> v) {
     return n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-// --- Passes on both sides -------------------------------------------------------------------
+// --- Passes and steps on both sides ----------------------------------------------------------
 
-// The items a pass covers: pixels, or the light tiles' entries as one row.
+// The items a pass that is not the recipe's covers: pixels, or the light tiles' entries as one
+// row.
 RESTIR_HOST_DEVICE std::uint32_t items_x(Pass p, const Context& c) {
     return p == Pass::tiles ? c.tiles.tile_count * c.tiles.tile_size : c.width;
 }
@@ -202,28 +216,56 @@ RESTIR_HOST_DEVICE std::uint32_t items_y(Pass p, const Context& c) {
     return p == Pass::tiles ? 1u : c.height;
 }
 
-template <Pass P, class Frame>
+template <Pass P>
 __global__ void pass_kernel(Context c) {
     const std::uint32_t x = blockIdx.x * blockDim.x + threadIdx.x;
     const std::uint32_t y = blockIdx.y * blockDim.y + threadIdx.y;
     if (x < items_x(P, c) && y < items_y(P, c))
-        box::run_item<P, Frame>(c, x, y);
+        box::run_item<P>(c, x, y);
+}
+
+// One step of the recipe over the pixels, compiled for stage `Stage` only; the frame by value
+// (a kernel parameter: no copy in local memory).
+template <DiStage Stage, class Frame>
+__global__ void step_kernel(Frame frame, DiStep step, Context c) {
+    const std::uint32_t x = blockIdx.x * blockDim.x + threadIdx.x;
+    const std::uint32_t y = blockIdx.y * blockDim.y + threadIdx.y;
+    if (x < c.width && y < c.height)
+        box::run_step<Stage>(frame, step, c, x, y);
 }
 
 dim3 pixel_block(16, 8); // --block
 
-template <Pass P, class Frame>
+template <Pass P>
 void launch(const Context& c) {
     const dim3 block = P == Pass::tiles ? dim3(256, 1) : pixel_block;
     const dim3 grid((items_x(P, c) + block.x - 1) / block.x,
                     (items_y(P, c) + block.y - 1) / block.y);
-    pass_kernel<P, Frame><<<grid, block>>>(c);
+    pass_kernel<P><<<grid, block>>>(c);
 }
 
-template <Pass P, class Frame>
-void run_cpu(const Context& c, std::uint32_t threads) {
-    const std::uint32_t w = items_x(P, c), h = items_y(P, c);
-    // Rows (pixels) or runs of entries (tiles), interleaved over the threads.
+template <class Frame>
+void launch_step(const Frame& frame, const DiStep& step, const Context& c) {
+    const dim3 grid((c.width + pixel_block.x - 1) / pixel_block.x,
+                    (c.height + pixel_block.y - 1) / pixel_block.y);
+    switch (step.stage) {
+    case DiStage::initial:
+        return step_kernel<DiStage::initial><<<grid, pixel_block>>>(frame, step, c);
+    case DiStage::temporal:
+        return step_kernel<DiStage::temporal><<<grid, pixel_block>>>(frame, step, c);
+    case DiStage::spatial:
+        return step_kernel<DiStage::spatial><<<grid, pixel_block>>>(frame, step, c);
+    case DiStage::boiling:
+        return step_kernel<DiStage::boiling><<<grid, pixel_block>>>(frame, step, c);
+    case DiStage::finish:
+        return step_kernel<DiStage::finish><<<grid, pixel_block>>>(frame, step, c);
+    }
+}
+
+// `body(x, y)` for every item of a w x h grid on `threads` CPU threads: rows (pixels) or runs
+// of 256 entries (a single row, the tiles), interleaved over the threads.
+template <class Body>
+void for_each_item(std::uint32_t w, std::uint32_t h, std::uint32_t threads, const Body& body) {
     const std::uint32_t chunks = h > 1u ? h : (w + 255u) / 256u;
     std::vector<std::thread> pool;
     for (std::uint32_t t = 0; t < threads; ++t)
@@ -231,10 +273,10 @@ void run_cpu(const Context& c, std::uint32_t threads) {
             for (std::uint32_t k = t; k < chunks; k += threads) {
                 if (h > 1u) {
                     for (std::uint32_t x = 0; x < w; ++x)
-                        box::run_item<P, Frame>(c, x, k);
+                        body(x, k);
                 } else {
                     for (std::uint32_t x = k * 256u; x < std::min(w, k * 256u + 256u); ++x)
-                        box::run_item<P, Frame>(c, x, 0u);
+                        body(x, 0u);
                 }
             }
         });
@@ -242,49 +284,57 @@ void run_cpu(const Context& c, std::uint32_t threads) {
         t.join();
 }
 
-// Pass `p` on the GPU (launch) or the CPU, for the layout of `c`.
+// The work of a frame: the G-buffer, the light tiles (for candidates drawn from them), then the
+// recipe's steps as `frame.step(i)` lists them (none is spelled out here).
+struct Work {
+    Pass row = Pass::gbuffer;
+    DiStep step{}; // for the recipe's rows
+};
 template <class Frame>
-void dispatch(Pass p, const Context& c, bool gpu, std::uint32_t threads) {
-#define RESTIR_PASS(P)                                                                             \
-    case P:                                                                                        \
-        return gpu ? launch<P, Frame>(c) : run_cpu<P, Frame>(c, threads);
-    switch (p) {
-        RESTIR_PASS(Pass::gbuffer)
-        RESTIR_PASS(Pass::tiles)
-        RESTIR_PASS(Pass::candidates)
-        RESTIR_PASS(Pass::visibility)
-        RESTIR_PASS(Pass::temporal)
-        RESTIR_PASS(Pass::spatial)
-        RESTIR_PASS(Pass::final_visibility)
-        RESTIR_PASS(Pass::shading)
-    default:
-        return;
+std::vector<Work> frame_work(const Context& c) {
+    std::vector<Work> work = {{Pass::gbuffer}};
+    if (!c.bvh_source)
+        work.push_back({Pass::tiles});
+    const Frame frame = c.recipe<Frame>();
+    for (std::uint32_t i = 0; i < frame.step_count(); ++i) {
+        const DiStep step = frame.step(i);
+        work.push_back({box::row_of(step.stage), step});
     }
-#undef RESTIR_PASS
+    return work;
 }
-void run_pass(Pass p, const Context& c, bool gpu, std::uint32_t threads) {
-    if (c.packed)
-        dispatch<box::PackedFrame>(p, c, gpu, threads);
-    else
-        dispatch<box::PlainFrame>(p, c, gpu, threads);
+std::vector<Work> frame_work(const Context& c) {
+    return c.packed ? frame_work<box::PackedFrame>(c) : frame_work<box::PlainFrame>(c);
 }
 
-// The passes of a frame: with ray-free reuse (deferred visibility) stage 1's rays go in a
-// pass of their own; with traced MIS rays the candidates pass traces them.
-// Without reuse (RIS alone) the frame ends after stage 1's visibility. Light tiles only for
-// candidates drawn from them.
-std::vector<Pass> frame_passes(const Context& c) {
-    std::vector<Pass> passes = {Pass::gbuffer};
-    if (!c.bvh_source)
-        passes.push_back(Pass::tiles);
-    passes.push_back(Pass::candidates);
-    if (c.params.deferred_visibility)
-        passes.push_back(Pass::visibility);
-    if (c.params.temporal_reuse)
-        for (const Pass p : {Pass::temporal, Pass::spatial, Pass::final_visibility})
-            passes.push_back(p);
-    passes.push_back(Pass::shading);
-    return passes;
+// `w` on the GPU (a launch) or the CPU, for the layout of `c`.
+template <class Frame>
+void run_work(const Work& w, const Context& c, bool gpu, std::uint32_t threads) {
+    if (w.row == Pass::gbuffer)
+        return gpu ? launch<Pass::gbuffer>(c)
+                   : for_each_item(c.width, c.height, threads,
+                                   [&](std::uint32_t x, std::uint32_t y) {
+                                       box::run_item<Pass::gbuffer>(c, x, y);
+                                   });
+    if (w.row == Pass::tiles)
+        return gpu ? launch<Pass::tiles>(c)
+                   : for_each_item(items_x(Pass::tiles, c), 1u, threads,
+                                   [&](std::uint32_t x, std::uint32_t y) {
+                                       box::run_item<Pass::tiles>(c, x, y);
+                                   });
+    const Frame frame = c.recipe<Frame>();
+    if (gpu)
+        return launch_step(frame, w.step, c);
+    const restir::DiBuffers<restir::LightPointSample> buffers = c.buffers();
+    for_each_item(c.width, c.height, threads, [&](std::uint32_t x, std::uint32_t y) {
+        frame.run_pixel(w.step, c.pixel(x, y), buffers, box::InitialCandidates{c}, c.bridge(),
+                        box::PixelRngs{c}, box::Shading{c});
+    });
+}
+void run_work(const Work& w, const Context& c, bool gpu, std::uint32_t threads) {
+    if (c.packed)
+        run_work<box::PackedFrame>(w, c, gpu, threads);
+    else
+        run_work<box::PlainFrame>(w, c, gpu, threads);
 }
 
 // --- Buffers --------------------------------------------------------------------------------
@@ -292,7 +342,7 @@ std::vector<Pass> frame_passes(const Context& c) {
 // The per-frame buffers of one side, and the context pointing at them.
 struct HostBuffers {
     std::vector<box::Texel> surfaces, previous_surfaces;
-    std::vector<box::Reservoir> current, scratch, history;
+    std::vector<box::Reservoir> out, scratch, history;
     std::vector<box::Packed> packed_history;
     std::vector<glm::vec3> image;
     std::vector<float> planes;
@@ -300,7 +350,7 @@ struct HostBuffers {
     void allocate(std::size_t pixels, std::size_t entries) {
         surfaces.assign(pixels, {});
         previous_surfaces.assign(pixels, {});
-        current.assign(pixels, {});
+        out.assign(pixels, {});
         scratch.assign(pixels, {});
         history.assign(pixels, {});
         packed_history.assign(pixels, {});
@@ -311,7 +361,7 @@ struct HostBuffers {
     void point(Context& c) {
         c.surfaces = surfaces.data();
         c.previous_surfaces = previous_surfaces.data();
-        c.current = current.data();
+        c.out = out.data();
         c.scratch = scratch.data();
         c.history = history.data();
         c.packed_history = packed_history.data();
@@ -324,7 +374,7 @@ struct HostBuffers {
 void point_device(Context& c, std::size_t pixels, std::size_t entries) {
     c.surfaces = device_alloc<box::Texel>(pixels);
     c.previous_surfaces = device_alloc<box::Texel>(pixels);
-    c.current = device_alloc<box::Reservoir>(pixels);
+    c.out = device_alloc<box::Reservoir>(pixels);
     c.scratch = device_alloc<box::Reservoir>(pixels);
     c.history = device_alloc<box::Reservoir>(pixels);
     c.packed_history = device_alloc<box::Packed>(pixels);
@@ -334,11 +384,11 @@ void point_device(Context& c, std::size_t pixels, std::size_t entries) {
 }
 
 // Next frame's view of the buffers: this frame's G-buffer becomes last frame's, and (plain
-// layout) the final reservoirs the history.
+// layout) the final reservoirs in `out` the history.
 void end_frame(Context& c) {
     std::swap(c.surfaces, c.previous_surfaces);
     if (!c.packed)
-        std::swap(c.current, c.history);
+        std::swap(c.out, c.history);
 }
 void begin_frame(Context& c, std::uint32_t frame, bool moving_camera) {
     c.frame = frame;
@@ -347,7 +397,6 @@ void begin_frame(Context& c, std::uint32_t frame, bool moving_camera) {
     c.camera = box::camera_of_frame(c.view, shown, c.width, c.height);
     c.previous_camera =
         box::camera_of_frame(c.view, shown > 0u ? shown - 1u : 0u, c.width, c.height);
-    c.build_recipes();
 }
 
 // --- Comparison -----------------------------------------------------------------------------
@@ -443,11 +492,11 @@ struct Comparison {
     std::vector<glm::vec3> colors;
     std::vector<float> planes;
 
-    // The outputs of pass `p`: CPU's in `h`, GPU's in `d`.
-    void pass(Pass p, const Context& h, const Context& d) {
-        Agreement& a = passes[static_cast<std::uint32_t>(p)];
+    // The outputs of `w`: CPU's in `h`, GPU's in `d`.
+    void work(const Work& w, const Context& h, const Context& d) {
+        Agreement& a = passes[static_cast<std::uint32_t>(w.row)];
         const std::size_t pixels = std::size_t{h.width} * h.height;
-        switch (p) {
+        switch (w.row) {
         case Pass::gbuffer:
             settle(a, h.surfaces, d.surfaces, pixels, texels);
             break;
@@ -470,16 +519,15 @@ struct Comparison {
             std::copy(refs.begin(), refs.end(), h.tiles.references);
             break;
         }
-        case Pass::temporal:
-            settle(a, h.scratch, d.scratch, pixels, reservoirs);
-            break;
-        case Pass::shading:
-            settle(a, h.image, d.image, pixels, colors);
-            if (h.packed)
-                settle(a, h.packed_history, d.packed_history, pixels, packed);
-            break;
         default:
-            settle(a, h.current, d.current, pixels, reservoirs);
+            // The buffer the step wrote (finish: `out`, in place), and the shading's outputs.
+            settle(a, h.buffers()[w.step.output].data, d.buffers()[w.step.output].data, pixels,
+                   reservoirs);
+            if (w.row == Pass::finish) {
+                settle(a, h.image, d.image, pixels, colors);
+                if (h.packed)
+                    settle(a, h.packed_history, d.packed_history, pixels, packed);
+            }
             break;
         }
     }
@@ -606,23 +654,23 @@ std::string number(double v, const char* format) {
 }
 
 // Bytes a pass reads and writes per pixel at the least (each record once), by layout.
-double record_bytes(Pass p, bool packed) {
+double record_bytes(Pass p, bool packed, restir::ReuseVisibility visibility) {
     const double texel = sizeof(box::Texel), reservoir = sizeof(box::Reservoir);
     const double stored = packed ? sizeof(box::Packed) : reservoir;
     switch (p) {
     case Pass::gbuffer:
         return texel;
-    case Pass::candidates:
+    case Pass::initial:
         return texel + reservoir;
-    case Pass::visibility:
-    case Pass::final_visibility:
-        return texel + 2 * reservoir;
     case Pass::temporal:
         return 2 * texel + 2 * reservoir + stored; // here + history
     case Pass::spatial:
         return texel + 2 * reservoir;
-    case Pass::shading:
-        return texel + reservoir + sizeof(glm::vec3) + (packed ? stored : 0.0);
+    case Pass::boiling:
+        return 2 * reservoir;
+    case Pass::finish: // written back when it carries visibility
+        return texel + (restir::carries_visibility(visibility) ? 2 : 1) * reservoir +
+               sizeof(glm::vec3) + (packed ? stored : 0.0);
     default:
         return 0.0;
     }
@@ -643,7 +691,7 @@ int run_benchmark(const Options& o) {
     if (cornell)
         emitters = box::make_emitters(scene);
     const box::Emitters host_emitters{emitters.data(), static_cast<std::uint32_t>(emitters.size())};
-    const float extent = cornell ? glm::length(glm::vec3(556.0f, 548.8f, 559.2f))
+    const float extent = cornell ? glm::length(box::to_vec3(cornell::box().extent))
                                  : glm::length(glm::vec3(100.0f, 3.0f, 100.0f));
     const restir::Falloff falloff = restir::Falloff::yuksel(0.02f * extent);
 
@@ -702,7 +750,6 @@ int run_benchmark(const Options& o) {
     base.width = o.width;
     base.height = o.height;
     base.params = box::recipe_params(o.height, o.mis_rays);
-    base.offsets = restir::make_neighbour_offsets();
     base.falloff = falloff;
     base.ray_offset = 1e-4f * extent;
     base.tiles.tile_count = box::tile_count;
@@ -768,8 +815,8 @@ int run_benchmark(const Options& o) {
         check_cuda(cudaMemset(reference, 0, pixels * sizeof(glm::vec3)), "reference");
         for (std::uint32_t f = 0; f < o.reference_frames; ++f) {
             begin_frame(r, f, false);
-            for (const Pass p : frame_passes(r))
-                run_pass(p, r, true, threads);
+            for (const Work& w : frame_work(r))
+                run_work(w, r, true, threads);
             add_image<<<(static_cast<std::uint32_t>(pixels) + 255u) / 256u, 256u>>>(
                 reference, r.image, static_cast<std::uint32_t>(pixels),
                 1.0f / static_cast<float>(o.reference_frames));
@@ -790,7 +837,6 @@ int run_benchmark(const Options& o) {
     for (const std::string& layout : layouts) {
         const bool packed = layout == "packed";
         h.packed = d.packed = packed;
-        const std::vector<Pass> passes = frame_passes(h);
         std::printf(
             "\n== %s history (%zu B a pixel), %s, %ux%u, %u candidates from the %s, %zu "
             "lights%s\n",
@@ -801,53 +847,67 @@ int run_benchmark(const Options& o) {
             o.width, o.height, h.candidates, h.bvh_source ? "light BVH" : "light tiles",
             host_lights.light_count() + std::size_t{0}, o.static_camera ? ", static camera" : "");
 
+        // Per row, one time per frame (the sum of its steps in that frame).
         std::vector<double> cpu_ms[box::pass_count], gpu_ms[box::pass_count], gpu_frame_ms;
+        bool ran[box::pass_count] = {};
         std::vector<double> frame_errors;
         Comparison comparison;
         const std::uint32_t cpu_frames = o.cpu_only ? o.frames : (gpu ? o.check_frames : 0u);
         const std::uint32_t total = gpu ? o.check_frames + o.warmup + o.frames : o.frames;
-        cudaEvent_t events[box::pass_count + 1];
-        if (gpu)
-            for (cudaEvent_t& e : events)
-                cudaEventCreate(&e);
+        std::vector<cudaEvent_t> events;
         for (std::uint32_t frame = 0; frame < total; ++frame) {
             begin_frame(h, frame, !o.static_camera);
             begin_frame(d, frame, !o.static_camera);
+            // The same steps on both sides: the same settings and history.
+            const std::vector<Work> work = frame_work(h);
             const bool on_cpu = frame < cpu_frames;
             const bool timed_gpu = gpu && frame >= o.check_frames + o.warmup;
-            for (std::size_t k = 0; k < passes.size(); ++k) {
-                const Pass p = passes[k];
+            while (gpu && events.size() < work.size() + 1) {
+                events.emplace_back();
+                cudaEventCreate(&events.back());
+            }
+            double cpu_frame[box::pass_count] = {};
+            for (std::size_t k = 0; k < work.size(); ++k) {
+                const Work& w = work[k];
+                ran[static_cast<std::uint32_t>(w.row)] = true;
                 if (gpu) {
                     if (timed_gpu)
                         cudaEventRecord(events[k]);
-                    run_pass(p, d, true, threads);
+                    run_work(w, d, true, threads);
                     if (!timed_gpu)
-                        check_cuda(cudaDeviceSynchronize(), box::pass_name(p));
+                        check_cuda(cudaDeviceSynchronize(), box::pass_name(w.row));
                 }
                 if (on_cpu) {
                     const auto start = std::chrono::steady_clock::now();
-                    run_pass(p, h, false, threads);
-                    const double ms = std::chrono::duration<double, std::milli>(
-                                          std::chrono::steady_clock::now() - start)
-                                          .count();
-                    // Frame 0 has no history and warms the caches: left out unless alone.
-                    if (frame > 0u || cpu_frames == 1u)
-                        cpu_ms[static_cast<std::uint32_t>(p)].push_back(ms);
+                    run_work(w, h, false, threads);
+                    cpu_frame[static_cast<std::uint32_t>(w.row)] +=
+                        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() -
+                                                                  start)
+                            .count();
                     if (gpu)
-                        comparison.pass(p, h, d);
+                        comparison.work(w, h, d);
                 }
             }
+            // Frame 0 has no history and warms the caches: left out unless alone.
+            if (on_cpu && (frame > 0u || cpu_frames == 1u))
+                for (std::uint32_t r = 0; r < box::pass_count; ++r)
+                    if (cpu_frame[r] > 0.0)
+                        cpu_ms[r].push_back(cpu_frame[r]);
             if (timed_gpu) {
-                cudaEventRecord(events[passes.size()]);
-                check_cuda(cudaEventSynchronize(events[passes.size()]), "frame");
-                float frame_ms = 0.0f;
-                for (std::size_t k = 0; k < passes.size(); ++k) {
+                cudaEventRecord(events[work.size()]);
+                check_cuda(cudaEventSynchronize(events[work.size()]), "frame");
+                double gpu_frame[box::pass_count] = {};
+                double frame_ms = 0.0;
+                for (std::size_t k = 0; k < work.size(); ++k) {
                     float ms = 0.0f;
                     cudaEventElapsedTime(&ms, events[k], events[k + 1]);
-                    gpu_ms[static_cast<std::uint32_t>(passes[k])].push_back(ms);
-                    if (!box::is_ray_pass(passes[k]))
+                    gpu_frame[static_cast<std::uint32_t>(work[k].row)] += ms;
+                    if (!box::is_ray_pass(work[k].row))
                         frame_ms += ms;
                 }
+                for (std::uint32_t r = 0; r < box::pass_count; ++r)
+                    if (gpu_frame[r] > 0.0)
+                        gpu_ms[r].push_back(gpu_frame[r]);
                 gpu_frame_ms.push_back(frame_ms);
                 if (reference != nullptr)
                     frame_errors.push_back(frame_mse(squared_error, d.image, reference, pixels));
@@ -856,19 +916,21 @@ int run_benchmark(const Options& o) {
             end_frame(d);
         }
 
-        // The table: per pass, GPU median, CPU median, their ratio, bytes, agreement.
+        // The table: per row, GPU median, CPU median, their ratio, bytes, agreement.
         std::printf("%-34s %10s %10s %8s %12s %12s %s\n", "pass", "GPU ms", "CPU ms", "CPU/GPU",
                     "records B/px", "Gcand/s", "GPU = CPU");
         double gpu_sum = 0.0, cpu_sum = 0.0;
-        for (const Pass p : passes) {
-            const std::uint32_t k = static_cast<std::uint32_t>(p);
+        for (std::uint32_t k = 0; k < box::pass_count; ++k) {
+            const auto p = static_cast<Pass>(k);
+            if (!ran[k])
+                continue;
             const double g = median(gpu_ms[k]), c = median(cpu_ms[k]);
             if (!box::is_ray_pass(p)) {
                 gpu_sum += g;
                 cpu_sum += c;
             }
             char rate[32] = "";
-            if (p == Pass::candidates && g > 0.0)
+            if (p == Pass::initial && g > 0.0)
                 std::snprintf(rate, sizeof rate, "%.1f",
                               static_cast<double>(pixels) * h.candidates / (g * 1e6));
             const Agreement& a = comparison.passes[k];
@@ -883,14 +945,15 @@ int run_benchmark(const Options& o) {
             std::printf("%-34s %10s %10s %8s %12.0f %12s %s\n", box::pass_name(p),
                         number(g, "%.3f").c_str(), number(c, "%.3f").c_str(),
                         number(g > 0.0 && c > 0.0 ? c / g : 0.0, "%.1f").c_str(),
-                        record_bytes(p, packed), rate, agree);
+                        record_bytes(p, packed, h.params.visibility), rate, agree);
         }
+        // The frame but its G-buffer: the tiles and the recipe's steps, with their shadow rays.
         std::printf(
-            "%-34s %10s %10s %8s", "library passes (no analytic rays)",
-            number(gpu_sum, "%.3f").c_str(), number(cpu_sum, "%.3f").c_str(),
+            "%-34s %10s %10s %8s", "frame without the G-buffer", number(gpu_sum, "%.3f").c_str(),
+            number(cpu_sum, "%.3f").c_str(),
             number(gpu_sum > 0.0 && cpu_sum > 0.0 ? cpu_sum / gpu_sum : 0.0, "%.1f").c_str());
         if (gpu)
-            std::printf("   (median GPU frame of the library passes: %.3f ms)",
+            std::printf("   (median GPU frame without the G-buffer: %.3f ms)",
                         median(gpu_frame_ms));
         std::printf("\n");
         if (!frame_errors.empty()) {
@@ -900,9 +963,8 @@ int run_benchmark(const Options& o) {
             std::printf("per-frame MSE against the reference: %.5g (mean of %zu frames)\n", mean,
                         frame_errors.size());
         }
-        if (gpu)
-            for (cudaEvent_t& e : events)
-                cudaEventDestroy(e);
+        for (cudaEvent_t& e : events)
+            cudaEventDestroy(e);
         if (!o.image.empty() && layout == layouts.back()) {
             if (gpu)
                 download(host.image.data(), d.image, pixels);

@@ -1,9 +1,12 @@
-// The example renderer's ReSTIR DI frame written as per-pixel functions that run unchanged in a
-// CUDA kernel and in a CPU loop (benchmarks/cuda/di_pipeline.cu), and its two scenes as
-// analytic geometry: the Cornell box (restir-render's geometry, materials and camera) and the
-// many-lights scene (its floor, camera and rules for the lights). The light tiles, target
-// function and recipe settings are restir-render's.
+// The example renderer's ReSTIR DI frame as the library's frame recipe (restir::DiFrame) with
+// this benchmark's collaborators (initial candidates, generators, shading), run unchanged per
+// pixel in a CUDA kernel and in a CPU loop (benchmarks/cuda/di_pipeline.cu), and its two
+// scenes as analytic geometry: the Cornell box (examples/common/cornell_box.hpp, shared with
+// restir-render) and the many-lights scene (its floor, camera and rules for the lights). The
+// light tiles, target function and recipe settings are restir-render's.
 #pragma once
+
+#include "../../examples/common/cornell_box.hpp"
 
 #include <restir/restir.hpp>
 
@@ -21,22 +24,21 @@ namespace box {
 
 // --- Scene ----------------------------------------------------------------------------------
 
-enum Material : std::uint32_t { white, red, green, light };
+using cornell::green;
+using cornell::light;
+using cornell::Material;
+using cornell::red;
+using cornell::white;
+
+constexpr glm::vec3 to_vec3(const float (&v)[3]) { return {v[0], v[1], v[2]}; }
 
 RESTIR_HOST_DEVICE inline glm::vec3 albedo_of(std::uint32_t m) {
-    switch (m) {
-    case red:
-        return {0.63f, 0.065f, 0.05f};
-    case green:
-        return {0.14f, 0.45f, 0.091f};
-    case light:
-        return {0.78f, 0.78f, 0.78f};
-    default:
-        return {0.725f, 0.71f, 0.68f};
-    }
+    const cornell::MaterialData data = cornell::material(m);
+    return {data.albedo[0], data.albedo[1], data.albedo[2]};
 }
 RESTIR_HOST_DEVICE inline glm::vec3 emission_of(std::uint32_t m) {
-    return m == light ? glm::vec3(17.0f, 12.0f, 4.0f) : glm::vec3(0.0f);
+    const cornell::MaterialData data = cornell::material(m);
+    return {data.emission[0], data.emission[1], data.emission[2]};
 }
 
 /// A triangle a + s ab + t ac with its unit normal (the side it faces) and material.
@@ -157,8 +159,10 @@ struct Lambertian {
     }
 };
 
-/// The Cornell box of restir-render (examples/pathtracer/scene.cpp): room, light, two blocks.
+/// The Cornell box of restir-render (examples/common/cornell_box.hpp): room, light, two blocks,
+/// each quad as two triangles (a, b, c) and (a, c, d) facing the side the box names.
 inline Scene make_cornell_box() {
+    constexpr cornell::Box box = cornell::box();
     Scene scene;
     using Quad = glm::vec3[4];
     const auto add = [&](const Quad& q, glm::vec3 towards, std::uint32_t material) {
@@ -171,78 +175,31 @@ inline Scene make_cornell_box() {
             scene.triangles[scene.count++] = t;
         }
     };
-    const auto centroid = [](const Quad& q) { return 0.25f * (q[0] + q[1] + q[2] + q[3]); };
-    const glm::vec3 interior{278.0f, 274.0f, 280.0f};
-    const auto room = [&](const Quad& q, std::uint32_t m) { add(q, interior - centroid(q), m); };
-    room({{552.8f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 559.2f}, {549.6f, 0.0f, 559.2f}},
-         white);
-    constexpr float ly = 548.8f - 0.5f;
-    add({{343.0f, ly, 227.0f}, {343.0f, ly, 332.0f}, {213.0f, ly, 332.0f}, {213.0f, ly, 227.0f}},
-        {0.0f, -1.0f, 0.0f}, light);
-    room({{556.0f, 548.8f, 0.0f},
-          {556.0f, 548.8f, 559.2f},
-          {0.0f, 548.8f, 559.2f},
-          {0.0f, 548.8f, 0.0f}},
-         white);
-    room({{549.6f, 0.0f, 559.2f},
-          {0.0f, 0.0f, 559.2f},
-          {0.0f, 548.8f, 559.2f},
-          {556.0f, 548.8f, 559.2f}},
-         white);
-    room({{0.0f, 0.0f, 559.2f}, {0.0f, 0.0f, 0.0f}, {0.0f, 548.8f, 0.0f}, {0.0f, 548.8f, 559.2f}},
-         green);
-    room({{552.8f, 0.0f, 0.0f},
-          {549.6f, 0.0f, 559.2f},
-          {556.0f, 548.8f, 559.2f},
-          {556.0f, 548.8f, 0.0f}},
-         red);
-    const auto block = [&](const Quad(&faces)[5]) {
-        glm::vec3 centre(0.0f);
-        for (const Quad& f : faces)
-            centre += centroid(f) / 5.0f;
-        for (const Quad& f : faces)
-            add(f, centroid(f) - centre, white);
+    const auto corners = [](const cornell::Quad& q, Quad& out) {
+        for (std::uint32_t k = 0; k < 4u; ++k)
+            out[k] = to_vec3(q.corners[k]);
     };
-    block({{{130.0f, 165.0f, 65.0f},
-            {82.0f, 165.0f, 225.0f},
-            {240.0f, 165.0f, 272.0f},
-            {290.0f, 165.0f, 114.0f}},
-           {{290.0f, 0.0f, 114.0f},
-            {290.0f, 165.0f, 114.0f},
-            {240.0f, 165.0f, 272.0f},
-            {240.0f, 0.0f, 272.0f}},
-           {{130.0f, 0.0f, 65.0f},
-            {130.0f, 165.0f, 65.0f},
-            {290.0f, 165.0f, 114.0f},
-            {290.0f, 0.0f, 114.0f}},
-           {{82.0f, 0.0f, 225.0f},
-            {82.0f, 165.0f, 225.0f},
-            {130.0f, 165.0f, 65.0f},
-            {130.0f, 0.0f, 65.0f}},
-           {{240.0f, 0.0f, 272.0f},
-            {240.0f, 165.0f, 272.0f},
-            {82.0f, 165.0f, 225.0f},
-            {82.0f, 0.0f, 225.0f}}});
-    block({{{423.0f, 330.0f, 247.0f},
-            {265.0f, 330.0f, 296.0f},
-            {314.0f, 330.0f, 456.0f},
-            {472.0f, 330.0f, 406.0f}},
-           {{423.0f, 0.0f, 247.0f},
-            {423.0f, 330.0f, 247.0f},
-            {472.0f, 330.0f, 406.0f},
-            {472.0f, 0.0f, 406.0f}},
-           {{472.0f, 0.0f, 406.0f},
-            {472.0f, 330.0f, 406.0f},
-            {314.0f, 330.0f, 456.0f},
-            {314.0f, 0.0f, 456.0f}},
-           {{314.0f, 0.0f, 456.0f},
-            {314.0f, 330.0f, 456.0f},
-            {265.0f, 330.0f, 296.0f},
-            {265.0f, 0.0f, 296.0f}},
-           {{265.0f, 0.0f, 296.0f},
-            {265.0f, 330.0f, 296.0f},
-            {423.0f, 330.0f, 247.0f},
-            {423.0f, 0.0f, 247.0f}}});
+    const auto centroid = [](const Quad& q) { return 0.25f * (q[0] + q[1] + q[2] + q[3]); };
+    for (std::uint32_t i = 0; i < 6u; ++i) {
+        Quad q;
+        corners(box.room[i], q);
+        add(q,
+            i == cornell::light_quad ? to_vec3(box.light_facing)
+                                     : to_vec3(box.interior) - centroid(q),
+            box.room_materials[i]);
+    }
+    const auto block = [&](const cornell::Quad(&faces)[5]) {
+        Quad f[5];
+        for (std::uint32_t k = 0; k < 5u; ++k)
+            corners(faces[k], f[k]);
+        glm::vec3 centre(0.0f);
+        for (const Quad& q : f)
+            centre += centroid(q) / 5.0f;
+        for (const Quad& q : f)
+            add(q, centroid(q) - centre, white);
+    };
+    block(box.short_block);
+    block(box.tall_block);
     return scene;
 }
 
@@ -354,7 +311,9 @@ struct View {
     glm::vec3 from{0.0f}, at{0.0f, 0.0f, 1.0f};
     float fov_degrees = 40.0f;
 };
-inline constexpr View cornell_view{{278.0f, 273.0f, -800.0f}, {278.0f, 273.0f, 0.0f}, 39.3077f};
+inline constexpr View cornell_view{to_vec3(cornell::box().camera.look_from),
+                                   to_vec3(cornell::box().camera.look_at),
+                                   cornell::box().camera.fov_degrees};
 inline constexpr View many_lights_view{{0.0f, 120.0f, 100.0f}, {0.0f, 0.0f, 0.0f}, 40.0f};
 
 /// The camera of frame `frame`: `view` swaying sideways along x (by up to 7.5 % of its distance
@@ -432,7 +391,6 @@ struct Context {
     std::uint32_t candidates = 32u;
     std::uint64_t seed = 1u;
     restir::DiFrameParams params{};
-    restir::NeighbourOffsets offsets{};
     View view{};
     Camera camera, previous_camera;
     const Scene* scene = nullptr;
@@ -445,46 +403,34 @@ struct Context {
     restir::LightBvhView bvh{}; // over `lights`
     Texel* surfaces = nullptr;  // this frame's G-buffer
     Texel* previous_surfaces = nullptr; // last frame's
-    Reservoir* current = nullptr;       // candidates, visibility, spatial, final visibility
-    Reservoir* scratch = nullptr;       // temporal
+    Reservoir* out = nullptr;           // the recipe's `DiBuffers::out`: the final reservoirs
+    Reservoir* scratch = nullptr;       // the other side of its ping-pong
     Reservoir* history = nullptr;       // last frame's final reservoirs (plain layout)
     Packed* packed_history = nullptr;   // the same, packed (written by shading)
     glm::vec3* image = nullptr;
-    // This frame's recipe in both layouts, built once per frame (`build_recipes`) and read
-    // where the context lives: in a kernel's parameters. (A recipe built inside the kernel
-    // copied its 512-byte offset table to every thread's local memory: 728 bytes of stack,
-    // and the spatial pass wrote 590 bytes a pixel to DRAM.)
-    PlainFrame plain_recipe{};
-    PackedFrame packed_recipe{};
 
     RESTIR_HOST_DEVICE restir::PixelCoord pixel(std::uint32_t x, std::uint32_t y) const {
         return {static_cast<std::int32_t>(x), static_cast<std::int32_t>(y)};
     }
-    RESTIR_HOST_DEVICE restir::LightPointVisibility<Scene> visibility() const {
-        return {scene, ray_offset};
+    RESTIR_HOST_DEVICE std::uint32_t index(restir::PixelCoord p) const {
+        return static_cast<std::uint32_t>(p.x) + static_cast<std::uint32_t>(p.y) * width;
     }
     RESTIR_HOST_DEVICE restir::ReuseBridge<Target, restir::LightPointVisibility<Scene>>
     bridge() const {
-        return {Target{}, visibility()};
+        return {Target{}, {scene, ray_offset}};
     }
+    RESTIR_HOST_DEVICE restir::DiBuffers<restir::LightPointSample> buffers() const {
+        return {{out, width, height}, {scratch, width, height}};
+    }
+    /// This frame's recipe in the layout `Frame` (`PlainFrame`, `PackedFrame`): a few hundred
+    /// bytes (the offset table is the library's, by pointer), built on the host once per
+    /// step and passed to the kernel by value.
     template <class Frame>
-    RESTIR_HOST_DEVICE const Frame& recipe() const {
-        if constexpr (Frame::loads_history)
-            return packed_recipe;
-        else
-            return plain_recipe;
-    }
-    void build_recipes() {
-        plain_recipe = frame_recipe<PlainFrame>();
-        packed_recipe = frame_recipe<PackedFrame>();
-    }
-    template <class Frame>
-    Frame frame_recipe() const {
+    Frame recipe() const {
         Frame f{.params = params,
                 .frame_index = frame,
                 .surfaces = {surfaces, width, height},
-                .reproject = {previous_camera, surfaces, width},
-                .offsets = offsets};
+                .reproject = {previous_camera, surfaces, width}};
         if (has_history) {
             f.previous_surfaces = {previous_surfaces, width, height};
             if constexpr (Frame::loads_history)
@@ -497,18 +443,19 @@ struct Context {
 };
 
 /// The recipe's settings for this benchmark: restir-render's (pairwise MIS, visibility reuse,
-/// one spatial pass in 30 px per 1080 rows), with 5 neighbours; `mis_rays` false makes the
-/// reuse passes ray-free (RTXDI's default), so that every ray is traced in a pass of its own.
+/// one spatial pass in 30 px per 1080 rows), with 5 neighbours. `mis_rays` traces the MIS
+/// weights' shadow rays (`ReuseVisibility::traced`); without it the reuse passes are ray-free
+/// (`assumed`, RTXDI's default), so that only the initial and finish stages trace rays.
 inline restir::DiFrameParams recipe_params(std::uint32_t height, bool mis_rays) {
     restir::DiFrameParams p = restir::default_di_frame_params();
     p.spatial.neighbour_count = 5u;
     p.spatial.radius = 30.0f * static_cast<float>(height) / 1080.0f;
-    p.reuse.trace_mis_visibility = mis_rays;
-    p.deferred_visibility = !mis_rays;
+    p.visibility = mis_rays ? restir::ReuseVisibility::traced : restir::ReuseVisibility::assumed;
     return p;
 }
 
-// Each pass's work at one item (a pixel (x, y); for the tiles, entry x of row 0).
+// The passes that are not the recipe's, at one item (a pixel (x, y); for the tiles, entry x of
+// row 0).
 
 RESTIR_HOST_DEVICE inline void gbuffer_pixel(const Context& c, std::uint32_t x, std::uint32_t y) {
     const glm::vec3 d =
@@ -522,6 +469,8 @@ RESTIR_HOST_DEVICE inline void tile_entry(const Context& c, std::uint32_t i, std
     c.tiles.store(i / c.tiles.tile_size, i % c.tiles.tile_size,
                   restir::presample_light(power, c.lights, rng), c.falloff);
 }
+
+// The recipe's collaborators, each reading the context it was made from.
 
 // Streaming RIS over candidates drawn from the light BVH for the surface (restir-render's
 // bvh_reservoir; the source pdf is the light's pmf there).
@@ -543,18 +492,15 @@ RESTIR_HOST_DEVICE inline Reservoir bvh_candidates(const Context& c, const Texel
         [&](const restir::LightPointSample& x) { return Target{}(x, s); });
 }
 
-// Stage 1 (restir-render's tile_reservoir): batch RIS over the pixel block's tile; tested for
-// visibility here only when the recipe traces its rays itself.
-template <class Frame>
-RESTIR_HOST_DEVICE void candidates_pixel(const Context& c, std::uint32_t x, std::uint32_t y) {
-    const std::uint32_t i = x + y * c.width;
-    const Texel& s = c.surfaces[i];
-    Reservoir r{};
-    if (is_valid_surface(s) && c.bvh_source) {
-        restir::Pcg32 rng = restir::make_pixel_rng(i, c.frame, restir::RngStream::initial, c.seed);
-        r = c.recipe<Frame>().initial(c.pixel(x, y), bvh_candidates(c, s, rng), c.visibility());
-    } else if (is_valid_surface(s)) {
-        restir::Pcg32 rng = restir::make_pixel_rng(i, c.frame, restir::RngStream::initial, c.seed);
+/// The initial stage's candidates (restir-render's tile_reservoir): batch RIS over the pixel
+/// block's light tile, or streaming RIS from the light BVH (`bvh_source`).
+struct InitialCandidates {
+    const Context& c;
+    RESTIR_HOST_DEVICE Reservoir operator()(restir::PixelCoord pixel, const Texel& s,
+                                            restir::Pcg32& rng) const {
+        if (c.bvh_source)
+            return bvh_candidates(c, s, rng);
+        const auto x = static_cast<std::uint32_t>(pixel.x), y = static_cast<std::uint32_t>(pixel.y);
         const std::uint32_t columns = (c.width + pixel_block - 1u) / pixel_block;
         const std::uint32_t tile =
             c.tiles.tile_for(x / pixel_block + y / pixel_block * columns, c.frame);
@@ -568,102 +514,93 @@ RESTIR_HOST_DEVICE void candidates_pixel(const Context& c, std::uint32_t x, std:
                 return restir::evaluate_tile_block<block_size, target_norm>(
                     c.tiles, tile, first, s.position, s.normal, channel_weights, block);
             });
-        r = c.recipe<Frame>().initial(
-            c.pixel(x, y), picked.with_sample(c.tiles.point_sample(picked.sample)), c.visibility());
+        return picked.with_sample(c.tiles.point_sample(picked.sample));
     }
-    c.current[i] = r;
-}
+};
 
-// Stages 1 and 5 with deferred visibility: the shadow ray of the pixel's sample (W = 0 when
-// occluded).
-template <class Frame>
-RESTIR_HOST_DEVICE void visibility_pixel(const Context& c, std::uint32_t x, std::uint32_t y) {
-    const std::uint32_t i = x + y * c.width;
-    if (c.recipe<Frame>().needs_visibility_test(c.current[i]))
-        restir::apply_visibility(c.current[i], c.surfaces[i], c.visibility());
-}
-
-template <class Frame>
-RESTIR_HOST_DEVICE void temporal_pixel(const Context& c, std::uint32_t x, std::uint32_t y) {
-    const std::uint32_t i = x + y * c.width;
-    Reservoir r = c.current[i];
-    if (is_valid_surface(c.surfaces[i])) {
-        restir::Pcg32 rng = restir::make_pixel_rng(i, c.frame, restir::RngStream::temporal, c.seed);
-        r = c.recipe<Frame>().temporal(c.pixel(x, y), r, c.bridge(), rng);
+/// A pixel's generator for a stream (`RngStream`): the same numbers on both sides.
+struct PixelRngs {
+    const Context& c;
+    RESTIR_HOST_DEVICE restir::Pcg32 operator()(restir::PixelCoord p, std::uint32_t stream) const {
+        return restir::make_pixel_rng(c.index(p), c.frame, stream, c.seed);
     }
-    c.scratch[i] = r;
-}
+};
 
-template <class Frame>
-RESTIR_HOST_DEVICE void spatial_pixel(const Context& c, std::uint32_t x, std::uint32_t y) {
-    const std::uint32_t i = x + y * c.width;
-    restir::Pcg32 rng = restir::make_pixel_rng(i, c.frame, restir::RngStream::spatial, c.seed);
-    c.current[i] = c.recipe<Frame>().spatial(c.pixel(x, y), 0u, {c.scratch, c.width, c.height},
-                                             c.bridge(), rng);
-}
-
-// Shading: emission plus f(y) W, unshadowed (the final visibility pass zeroed W of occluded
-// samples); the result stored as next frame's history (packed, or left in `current`).
-template <class Frame>
-RESTIR_HOST_DEVICE void shade_pixel(const Context& c, std::uint32_t x, std::uint32_t y) {
-    const std::uint32_t i = x + y * c.width;
-    const Texel& s = c.surfaces[i];
-    const Reservoir& r = c.current[i];
-    glm::vec3 color(0.0f);
-    if (is_valid_surface(s)) {
-        color = emission_of(s.material);
-        if (r.has_sample() && r.contribution_weight > 0.0f)
-            color += albedo_of(s.material) * restir::inv_pi *
-                     restir::unshadowed_irradiance(r.sample, s.position, s.normal) *
-                     r.contribution_weight;
+/// The finish stage's shading: emission plus f(y) W where the sample is visible (under
+/// visibility reuse the stage has set W = 0 where it is occluded); the final reservoir packed
+/// as the next frame's history in the packed layout (the plain one keeps `out`).
+struct Shading {
+    const Context& c;
+    RESTIR_HOST_DEVICE void operator()(restir::PixelCoord p, const Reservoir& r,
+                                       bool visible) const {
+        const std::uint32_t i = c.index(p);
+        const Texel& s = c.surfaces[i];
+        glm::vec3 color(0.0f);
+        if (is_valid_surface(s)) {
+            color = emission_of(s.material);
+            if (visible && r.contribution_weight > 0.0f)
+                color += albedo_of(s.material) * restir::inv_pi *
+                         restir::unshadowed_irradiance(r.sample, s.position, s.normal) *
+                         r.contribution_weight;
+        }
+        c.image[i] = color;
+        if (c.packed)
+            c.packed_history[i] = restir::pack_reservoir(r);
     }
-    c.image[i] = color;
-    if (c.packed)
-        c.packed_history[i] = restir::pack_reservoir(r);
+};
+
+/// Step `step` of `frame` (stage `Stage`) at pixel (x, y): the recipe's code, nothing of ours
+/// but the collaborators.
+template <restir::DiStage Stage, class Frame>
+RESTIR_HOST_DEVICE void run_step(const Frame& frame, const restir::DiStep& step, const Context& c,
+                                 std::uint32_t x, std::uint32_t y) {
+    frame.template run_stage<Stage>(step, c.pixel(x, y), c.buffers(), InitialCandidates{c},
+                                    c.bridge(), PixelRngs{c}, Shading{c});
 }
 
-/// The passes of a frame, in order.
+/// The rows of the timing table: the passes that are not the recipe's, then one per stage of
+/// the recipe (`DiStage`, in its order; several spatial passes add up in one row).
+/// The visibility rays have no rows of their own: the initial stage traces each initial
+/// sample's ray and the finish stage the final one, under ray-free reuse (`assumed`, the
+/// default) as under traced MIS (`--mis-rays`, `traced`), where the temporal and spatial
+/// stages also trace their MIS rays and retest the samples they bring in.
 enum class Pass : std::uint32_t {
     gbuffer,
     tiles,
-    candidates,
-    visibility,
+    initial,
     temporal,
     spatial,
-    final_visibility,
-    shading,
+    boiling,
+    finish,
     count
 };
 inline constexpr std::uint32_t pass_count = static_cast<std::uint32_t>(Pass::count);
+inline constexpr Pass row_of(restir::DiStage stage) {
+    return static_cast<Pass>(static_cast<std::uint32_t>(Pass::initial) +
+                             static_cast<std::uint32_t>(stage));
+}
+static_assert(row_of(restir::DiStage::finish) == Pass::finish);
 inline const char* pass_name(Pass p) {
-    constexpr const char* names[] = {
-        "G-buffer (analytic rays)",         "light tiles",    "initial candidates",
-        "visibility (analytic rays)",       "temporal reuse", "spatial reuse",
-        "final visibility (analytic rays)", "shading"};
+    constexpr const char* names[] = {"G-buffer (analytic rays)",
+                                     "light tiles",
+                                     "initial (candidates, visibility)",
+                                     "temporal reuse",
+                                     "spatial reuse",
+                                     "boiling filter",
+                                     "finish (visibility, shading)"};
     return names[static_cast<std::uint32_t>(p)];
 }
 /// Whether the pass traces rays of the analytic scene only (its cost is not the library's).
-inline bool is_ray_pass(Pass p) {
-    return p == Pass::gbuffer || p == Pass::visibility || p == Pass::final_visibility;
-}
+inline bool is_ray_pass(Pass p) { return p == Pass::gbuffer; }
 
-/// Pass `P` at item (x, y).
-template <Pass P, class Frame>
+/// Pass `P` (G-buffer or tiles) at item (x, y).
+template <Pass P>
 RESTIR_HOST_DEVICE void run_item(const Context& c, std::uint32_t x, std::uint32_t y) {
+    static_assert(P == Pass::gbuffer || P == Pass::tiles);
     if constexpr (P == Pass::gbuffer)
         gbuffer_pixel(c, x, y);
-    else if constexpr (P == Pass::tiles)
-        tile_entry(c, x, y);
-    else if constexpr (P == Pass::candidates)
-        candidates_pixel<Frame>(c, x, y);
-    else if constexpr (P == Pass::visibility || P == Pass::final_visibility)
-        visibility_pixel<Frame>(c, x, y);
-    else if constexpr (P == Pass::temporal)
-        temporal_pixel<Frame>(c, x, y);
-    else if constexpr (P == Pass::spatial)
-        spatial_pixel<Frame>(c, x, y);
     else
-        shade_pixel<Frame>(c, x, y);
+        tile_entry(c, x, y);
 }
 
 } // namespace box
