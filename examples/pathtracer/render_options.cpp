@@ -146,8 +146,23 @@ void add_output_options(CLI::App& app, RenderOptions& options) {
                    "autocorrelation)");
 }
 
-// The candidates and the ReSTIR frame's reuse, straight into the library's parameters.
-void add_light_sampling_options(CLI::App& app, RenderSettings& settings) {
+// The reuse flags as given, made the library's parameters after parsing (`apply`).
+struct ReuseFlags {
+    restir::BiasCorrection bias_correction = restir::BiasCorrection::pairwise;
+    bool visibility_reuse = true;
+    bool mis_rays = true;
+    void apply(restir::DiFrameParams& frame) const {
+        frame.temporal_bias_correction = bias_correction;
+        frame.spatial_bias_correction = bias_correction;
+        frame.visibility = !visibility_reuse ? restir::ReuseVisibility::none
+                           : mis_rays        ? restir::ReuseVisibility::traced
+                                             : restir::ReuseVisibility::assumed;
+    }
+};
+
+// The candidates and the ReSTIR frame's reuse, straight into the library's parameters (the
+// reuse flags through `flags`).
+void add_light_sampling_options(CLI::App& app, RenderSettings& settings, ReuseFlags& flags) {
     restir::DiFrameParams& frame = settings.di_frame;
     app.add_option("--candidates", settings.candidates, "RIS candidates per pixel (M)")
         ->check(CLI::Range(1u, 4096u));
@@ -172,7 +187,7 @@ void add_light_sampling_options(CLI::App& app, RenderSettings& settings) {
                    "Boiling filter after spatial reuse: empty reservoirs whose contribution "
                    "exceeds this multiple of their 9x9 neighbourhood's (0: off; biased)")
         ->check(finite_number & CLI::Range(0.0f, 1e30f));
-    app.add_option("--bias-correction", frame.reuse.bias_correction,
+    app.add_option("--bias-correction", flags.bias_correction,
                    "Reuse weights: none (1/M, biased), one-over-z, balance-heuristic, pairwise")
         ->transform(names<restir::BiasCorrection>(
             {{"none", restir::BiasCorrection::none},
@@ -180,9 +195,9 @@ void add_light_sampling_options(CLI::App& app, RenderSettings& settings) {
              {"balance-heuristic", restir::BiasCorrection::balance_heuristic},
              {"pairwise", restir::BiasCorrection::pairwise}}))
         ->default_str("pairwise");
-    app.add_option("--visibility-reuse", frame.reuse.visibility_reuse,
+    app.add_option("--visibility-reuse", flags.visibility_reuse,
                    "Zero W of occluded samples before reuse (true/false)");
-    app.add_option("--mis-rays", frame.reuse.trace_mis_visibility,
+    app.add_option("--mis-rays", flags.mis_rays,
                    "With visibility reuse, trace the shadow rays of the reuse MIS weights "
                    "(true/false); false assumes samples visible inside the weights (no rays in "
                    "reuse, slightly biased: docs/noise-and-bias.md)");
@@ -255,7 +270,8 @@ std::optional<RenderOptions> parse_render_options(int argc, const char* const* a
     add_scene_options(app, options);
     add_camera_options(app, options);
     add_output_options(app, options);
-    add_light_sampling_options(app, settings);
+    ReuseFlags reuse_flags;
+    add_light_sampling_options(app, settings, reuse_flags);
     add_indirect_light_options(app, settings, vpl_seed);
     try {
         app.parse(argc, argv);
@@ -267,6 +283,7 @@ std::optional<RenderOptions> parse_render_options(int argc, const char* const* a
     }
     settings.photons.seed = vpl_seed.value_or(settings.seed);
     settings.di_frame.boiling_filter = settings.di_frame.boiling.threshold > 0.0f;
+    reuse_flags.apply(settings.di_frame);
     check_consistent(options);
     return options;
 }

@@ -75,8 +75,8 @@ struct RenderSettings {
     /// least 3), a history cap of 4 with permutation sampling (for the accumulated image: the
     /// paper's cap of 20 without permutation made consecutive frames so alike that averaging
     /// them gained little, docs/noise-and-bias.md), and the boiling filter off with a
-    /// threshold of 0 (it removes energy, so it is biased). The renderer sets
-    /// `deferred_visibility`: it traces the stages' rays itself, in packets.
+    /// threshold of 0 (it removes energy, so it is biased). The renderer runs it per 8 x 8
+    /// tile, each stage's rays traced as Embree packets.
     static restir::DiFrameParams default_di_frame_settings() {
         restir::DiFrameParams p = restir::default_di_frame_params();
         p.spatial.neighbour_count = 5;

@@ -187,7 +187,8 @@ TEST(Renderer, PackedHistoryGivesTheSameImages) {
         s.method = Method::restir;
         s.motion = pt::CameraMotion::orbit;
         s.vpl_reshoot_interval = 3;
-        s.di_frame.reuse.bias_correction = mode;
+        s.di_frame.temporal_bias_correction = mode;
+        s.di_frame.spatial_bias_correction = mode;
         const pt::Image viewed = render(scene, s, 5);
         s.packed_history = true;
         const pt::Image packed = render(scene, s, 5);

@@ -192,7 +192,8 @@ public:
                 ? restir::ReuseVisibility::traced_inputs_tested
                 : p_.visibility;
         const bool visibility_reuse = restir::carries_visibility(visibility);
-        const bool retest = restir::traces_mis_rays(visibility);
+        const bool retest = restir::traces_mis_rays(visibility) &&
+                            p_.spatial_bias_correction != BiasCorrection::none;
         const bool history = p_.temporal_reuse && frame > 0 && !cut;
         Image current(pixel_count);
         for (std::uint32_t i = 0; i < pixel_count; ++i) {
@@ -378,7 +379,7 @@ TEST(DiFrame, WithoutHistoryTemporalReturnsItsInput) {
 
 // The steps: stages in order, writers alternating so that the last writes `out` (buffer 0),
 // each reading what the one before wrote, `finish` in place on `out`; retests only before a
-// spatial pass whose MIS weights trace rays.
+// spatial pass whose MIS weights trace rays (none under 1/M, which traces none).
 TEST(DiFrame, StepsPingPongIntoOutAndRetestOnlyBeforeTracedPasses) {
     const Reservoir<LightId> history[1]{};
     for (std::uint32_t passes : {0u, 1u, 2u, 3u})
@@ -414,6 +415,9 @@ TEST(DiFrame, StepsPingPongIntoOutAndRetestOnlyBeforeTracedPasses) {
                         EXPECT_EQ(s.retest, i > 0u && before_spatial &&
                                                 v == restir::ReuseVisibility::traced)
                             << name << ", step " << i;
+                        Frame one_over_m = f;
+                        one_over_m.params.spatial_bias_correction = BiasCorrection::none;
+                        EXPECT_FALSE(one_over_m.step(i).retest) << name << ", step " << i;
                     }
                     EXPECT_EQ(f.step(count - 2u).output, 0u) << name << ": the last writer writes out";
                     EXPECT_EQ(f.step(count - 1u).output, 0u) << name;

@@ -84,7 +84,8 @@ struct DiStep {
     std::uint32_t input = 0u; ///< Buffer read (the initial stage reads none).
     std::uint32_t output = 0u; ///< Buffer written; `finish` writes the buffer it reads, `out`.
     /// Results whose sample differs from the input's are visibility-tested (W = 0 when
-    /// occluded): the next step is a reuse pass whose MIS weights trace rays.
+    /// occluded): the next step is a spatial pass whose MIS weights trace rays (an unbiased
+    /// mode under `ReuseVisibility::traced`).
     bool retest = false;
 };
 
@@ -190,7 +191,8 @@ requires(std::same_as<History, ImageView<const Reservoir<Sample>>> ||
         // are tested where they now are (the initial stage tests all of its own).
         const bool reuses = s.stage == DiStage::temporal || s.stage == DiStage::spatial;
         const bool next_is_spatial = i >= temporal_steps && i < temporal_steps + params.spatial_passes;
-        s.retest = reuses && next_is_spatial && traces_mis_rays(params.visibility);
+        s.retest = reuses && next_is_spatial && traces_mis_rays(params.visibility) &&
+                   params.spatial_bias_correction != BiasCorrection::none;
         return s;
     }
 
