@@ -485,7 +485,7 @@ void settle(Agreement& agreement, T* host, const T* device, std::size_t n,
 }
 
 struct Comparison {
-    Agreement passes[box::pass_count];
+    Agreement passes[box::pass_count]; // by row
     std::vector<box::Texel> texels;
     std::vector<box::Reservoir> reservoirs;
     std::vector<box::Packed> packed;

@@ -26,7 +26,6 @@ namespace box {
 
 using cornell::green;
 using cornell::light;
-using cornell::Material;
 using cornell::red;
 using cornell::white;
 
