@@ -4,10 +4,21 @@
 // is checked by the `deprecation.warns` test (tests/deprecated/).
 #include <restir/light/falloff.hpp>
 #include <restir/light/irradiance.hpp>
+#include <restir/reuse/di_frame.hpp>
+#include <restir/reuse/history.hpp>
+#include <restir/reuse/neighbour_offsets.hpp>
+#include <restir/reuse/spatial.hpp>
+#include <restir/reuse/spatiotemporal.hpp>
+#include <restir/reuse/temporal.hpp>
+#include <restir/sampling/diffuse_direction.hpp>
+
+#include "support/stub_bridge.hpp"
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <type_traits>
+#include <vector>
 
 namespace {
 
@@ -40,6 +51,78 @@ TEST(DeprecatedApi, OldFalloffFunctionsGiveTheNewOnesResults) {
                 EXPECT_EQ(restir::attenuate(restir::Attenuation::inverse_square, d, p),
                           restir::evaluate_falloff(restir::FalloffKind::inverse_square, d, p));
             }
+        }
+    }
+}
+
+TEST(DeprecatedApi, NeighborOffsetsIsNeighbourOffsets) {
+    static_assert(std::is_same_v<restir::NeighborOffsets, restir::NeighbourOffsets>);
+    static_assert(restir::neighbor_offset_count == restir::neighbour_offset_count);
+    constexpr restir::NeighborOffsets old_table = restir::make_neighbor_offsets();
+    const restir::NeighbourOffsets& table = restir::default_neighbour_offsets();
+    for (std::uint32_t i = 0u; i < restir::neighbor_offset_count; ++i) {
+        EXPECT_EQ(old_table[i].x, table[i].x);
+        EXPECT_EQ(old_table[i].y, table[i].y);
+    }
+}
+
+TEST(DeprecatedApi, OtherRenamesMeanTheSame) {
+    static_assert(std::is_same_v<restir::DiStream, restir::RngStream>);
+    static_assert(std::is_same_v<restir::LoadedHistoryInput<stub::Sample, stub::Surface>,
+                                 restir::detail::LoadedHistoryInput<stub::Sample, stub::Surface>>);
+    const glm::vec3 n(0.0f, 0.0f, 1.0f);
+    const glm::vec3 a = restir::sample_emission_direction(n, 0.3f, 0.7f);
+    const glm::vec3 b = restir::sample_diffuse_direction(n, 0.3f, 0.7f);
+    EXPECT_EQ(a.x, b.x);
+    EXPECT_EQ(a.y, b.y);
+    EXPECT_EQ(a.z, b.z);
+}
+
+// The fused pass's two older forms (0.1: SpatialParams; until 0.2: NeighbourSearch) draw the
+// same numbers and return the same reservoirs as the new call with default reuse settings and
+// frame 0, at every pixel of a 4 x 4 history.
+TEST(DeprecatedApi, SpatiotemporalResampleOlderFormsGiveTheNewResult) {
+    const restir::ReuseBridge bridge{stub::Target{}, stub::Visibility{}};
+    std::vector<stub::Surface> surfaces;
+    std::vector<restir::Reservoir<stub::Sample>> reservoirs;
+    for (std::uint32_t i = 0u; i < 16u; ++i) {
+        surfaces.push_back(stub::Surface{0.5f + 0.01f * static_cast<float>(i)});
+        restir::Reservoir<stub::Sample> r;
+        const stub::Sample sample{i % 4u};
+        r.stream(sample, 1.0f, stub::Target{}(sample, surfaces.back()), 0.5f);
+        r.finalize();
+        reservoirs.push_back(r);
+    }
+    const restir::ImageView<const restir::Reservoir<stub::Sample>> view{reservoirs.data(), 4u, 4u};
+    const restir::ImageView<const stub::Surface> surface_view{surfaces.data(), 4u, 4u};
+    const restir::NeighbourOffsets& offsets = restir::default_neighbour_offsets();
+    restir::SpatialParams spatial = restir::default_spatial_params();
+    spatial.radius = 2.0f;
+    spatial.neighbour_count = 4u;
+    const restir::NeighbourSearch search{spatial.neighbour_count, spatial.radius};
+    const restir::TemporalParams temporal = restir::default_temporal_params();
+    for (std::int32_t y = 0; y < 4; ++y) {
+        for (std::int32_t x = 0; x < 4; ++x) {
+            const auto i = static_cast<std::uint32_t>(x + 4 * y);
+            stub::Rng rng_0_1{i + 1u}, rng_search{i + 1u}, rng_new{i + 1u};
+            const auto from_0_1 = restir::spatiotemporal_resample(
+                {x, y}, reservoirs[i], surfaces[i], view, surface_view, stub::Reprojection{},
+                temporal, spatial, offsets, bridge, rng_0_1);
+            const auto from_search = restir::spatiotemporal_resample(
+                {x, y}, reservoirs[i], surfaces[i], view, surface_view, stub::Reprojection{},
+                temporal, search, offsets, bridge, rng_search);
+            const auto expected = restir::spatiotemporal_resample(
+                {x, y}, reservoirs[i], surfaces[i], view, surface_view, stub::Reprojection{},
+                temporal, spatial, restir::ReuseParams{}, 0u, bridge, rng_new, offsets);
+            for (const auto& old : {from_0_1, from_search}) {
+                EXPECT_EQ(old.sample.id, expected.sample.id);
+                EXPECT_EQ(old.candidate_count, expected.candidate_count);
+                EXPECT_EQ(old.weight_sum, expected.weight_sum);
+                EXPECT_EQ(old.contribution_weight, expected.contribution_weight);
+            }
+            EXPECT_GT(expected.candidate_count, reservoirs[i].candidate_count) << "reuse happened";
+            EXPECT_EQ(rng_0_1.state, rng_new.state);
+            EXPECT_EQ(rng_search.state, rng_new.state);
         }
     }
 }

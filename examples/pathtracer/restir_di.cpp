@@ -4,6 +4,7 @@
 #include "timing.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <span>
 #include <utility>
@@ -18,13 +19,9 @@ struct PacketTracer {
 
     void trace(std::span<const restir::VisibilityQuery<restir::LightPointSample, GSurface>> queries,
                std::span<bool> visible) const {
-        // Per-thread buffers: a tile asks up to 64 x 15 questions at a time.
-        thread_local std::vector<glm::vec3> from, to;
-        thread_local std::vector<std::uint8_t> blocked;
+        std::array<glm::vec3, restir::max_tile_queries> from, to;
+        std::array<std::uint8_t, restir::max_tile_queries> blocked;
         const std::size_t n = queries.size();
-        from.resize(n);
-        to.resize(n);
-        blocked.resize(n);
         for (std::size_t i = 0; i < n; ++i) {
             const restir::ShadowSegment segment =
                 visibility.segment(*queries[i].sample, *queries[i].surface);

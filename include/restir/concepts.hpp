@@ -17,7 +17,21 @@
 
 namespace restir {
 
-// UniformRng<Rng> (core/rng.hpp): `next_float(rng)` -> float in [0, 1).
+// The concepts of this file are the ones every part of the library uses. The others live
+// beside the stage that asks for them (this header sits in the core layer and includes none of
+// those stages):
+//   UniformRng          core/rng.hpp             `next_float(rng)` -> float in [0, 1)
+//   VisibilityFunction  reuse/visibility.hpp     `visible(sample, surface)` -> bool
+//   BatchVisibility     reuse/di_frame_tiles.hpp `tracer.trace(queries, visible)`
+//   Reprojection        reuse/temporal.hpp       `reproject(pixel)` -> last frame's pixel
+//   ReservoirHistory    reuse/history.hpp        last frame's reservoirs, loaded by value
+//   HistorySurfaces     reuse/history.hpp        last frame's surfaces, decoded
+//   SurfaceDecoder      reuse/surface_source.hpp this frame's surfaces, decoded
+//   SurfaceSource       reuse/surface_source.hpp an ImageView of surfaces or a decoder
+//   ReuseInputs         reuse/reuse_input.hpp    the reservoirs one reuse step borrows
+//   LightPointDecoder   reuse/packed_reservoir.hpp a packed light point back as a sample
+//   ClosestHitQuery     vpl/photon_shooter.hpp   `closest_hit(origin, direction)`
+//   ScatterFunction     vpl/photon_shooter.hpp   a photon's bounce at a hit
 
 /// Chooses a light id. Required expressions, for `const S s`, floats `u0, u1` in [0, 1) and
 /// `std::uint32_t id`:

@@ -69,6 +69,9 @@ struct DiFrameParams {
     BoilingFilterParams boiling = default_boiling_filter_params();
 };
 
+/// The random streams' name before 0.2.
+using DiStream [[deprecated("use restir::RngStream")]] = RngStream;
+
 /// The paper's settings: pairwise MIS with visibility reuse and traced MIS rays, temporal reuse
 /// with a history cap of 20, one spatial pass of 3 neighbours in 30 pixels.
 RESTIR_HOST_DEVICE constexpr DiFrameParams default_di_frame_params() noexcept { return {}; }
@@ -386,13 +389,15 @@ requires(std::same_as<History, ImageView<const Reservoir<Sample>>> ||
         return result;
     }
     /// The neighbours that a spatial pass of `pixel` (which must `combines_at`) reuses from
-    /// `input`, the whole output of the step before. Two uniform numbers.
-    template <class Bridge, UniformRng Rng>
+    /// `input`, the whole output of the step before; `lending(p)` for each that lends, in order.
+    /// Two uniform numbers.
+    template <class Bridge, UniformRng Rng, class Lending = IgnoreLending>
     RESTIR_HOST_DEVICE SpatialNeighbours<Sample, S, Surfaces>
     neighbours(PixelCoord pixel, ImageView<const Reservoir<Sample>> input, const Bridge& bridge,
-               Rng& rng) const {
+               Rng& rng, const Lending& lending = {}) const {
         return find_spatial_neighbours(pixel, surface_at(surfaces, pixel), input, surfaces,
-                                       params.spatial, offset_table(), bridge.material_test, rng);
+                                       params.spatial, offset_table(), bridge.material_test, rng,
+                                       lending);
     }
     /// A spatial pass's combination at `pixel` (which must `combines_at`) of its reservoir in
     /// `input` with `inputs` (the set `neighbours` found, with the same generator).

@@ -52,6 +52,8 @@ struct OneByOne {
 
 /// The most pixels a tile may hold.
 inline constexpr std::uint32_t max_tile_pixels = 64u;
+/// The most questions one `trace` call of a tile's stage receives.
+inline constexpr std::uint32_t max_tile_queries = max_tile_pixels * (max_reuse_inputs - 1u);
 
 /// A rectangle of pixels, [lower.x, upper.x) x [lower.y, upper.y), of at most
 /// `max_tile_pixels` pixels.
@@ -79,7 +81,7 @@ namespace detail {
 /// The questions of one stage over a tile, traced as one batch.
 template <class Sample, class S>
 struct TileQueries {
-    static constexpr std::uint32_t capacity = max_tile_pixels * (max_reuse_inputs - 1u);
+    static constexpr std::uint32_t capacity = max_tile_queries;
     VisibilityQuery<Sample, S> queries[capacity];
     bool visible[capacity];
     std::uint32_t count = 0u;
@@ -95,6 +97,26 @@ struct TileQueries {
             tracer.trace(std::span<const VisibilityQuery<Sample, S>>(queries, count),
                          std::span<bool>(visible, count));
     }
+};
+
+/// The inputs of a spatial pass that lend, gathered once in order: a `ReuseInputs` set whose
+/// entries all take part (`packed`). Entries past `count` stay uninitialised (zeroing 15 inputs
+/// per pixel is work a pass does not need).
+template <class Sample, class S>
+struct GatheredInputs {
+    static constexpr bool packed = true;
+    const Reservoir<Sample>* reservoirs[max_reuse_inputs - 1u];
+    const S* surfaces[max_reuse_inputs - 1u];
+    std::uint32_t count;
+
+    void add(const Reservoir<Sample>* reservoir, const S* surface) {
+        if (count + 1u < max_reuse_inputs && reservoir->is_well_formed()) {
+            reservoirs[count] = reservoir;
+            surfaces[count++] = surface;
+        }
+    }
+    std::uint32_t size() const { return count; }
+    ReuseInput<Sample, S> operator[](std::uint32_t i) const { return {reservoirs[i], surfaces[i]}; }
 };
 
 /// The MIS terms of one pixel traced ahead: p-hat of its own (canonical) sample at each input's
@@ -277,21 +299,23 @@ void run_di_step(const DiFrame<Sample, S, Reproject, History, Surfaces>& frame,
             bridge, frame.spatial_reuse_params()};
         using Rng = decltype(rng_for(PixelCoord{}, 0u));
         Rng rngs[max_tile_pixels];
-        SpatialNeighbours<Sample, S, Surfaces> sets[max_tile_pixels];
+        detail::GatheredInputs<Sample, S> gathered[max_tile_pixels];
         tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t k) {
             rngs[k] = rng_for(pixel, RngStream::spatial + step.pass);
-            sets[k] = {};
+            gathered[k].count = 0u;
             if (!frame.combines_at(pixel))
                 return;
-            sets[k] = frame.neighbours(pixel, input, bridge, rngs[k]);
+            // The lending neighbours gathered as they are found, in the streamed set's order.
+            frame.neighbours(pixel, input, bridge, rngs[k],
+                             [&](PixelCoord p) { gathered[k].add(&input[p], &surfaces[p]); });
             if (reuse.asks && input[pixel].has_sample())
-                reuse.ask(k, input[pixel], sets[k]);
+                reuse.ask(k, input[pixel], gathered[k]);
         });
         reuse.queries.trace(bridge.visibility);
         tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t k) {
-            output[pixel] = frame.combines_at(pixel)
-                                ? frame.spatial(pixel, input, sets[k], reuse.answered(k), rngs[k])
-                                : input[pixel];
+            output[pixel] = frame.combines_at(pixel) ? frame.spatial(pixel, input, gathered[k],
+                                                                     reuse.answered(k), rngs[k])
+                                                     : input[pixel];
         });
         break;
     }

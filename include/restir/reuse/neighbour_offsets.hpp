@@ -71,7 +71,17 @@ RESTIR_HOST_DEVICE inline const NeighbourOffsets& default_neighbour_offsets() no
 #endif
 }
 
-/// The table's name before 0.2.
+// --- Names before 0.2, kept until at least 0.3 (spelt "neighbour" throughout since) ---------
+
+/// Renamed `NeighbourOffsets`.
 using NeighborOffsets [[deprecated("use restir::NeighbourOffsets")]] = NeighbourOffsets;
+/// Renamed `neighbour_offset_count`.
+[[deprecated("use restir::neighbour_offset_count")]] inline constexpr std::uint32_t
+    neighbor_offset_count = neighbour_offset_count;
+/// Renamed `make_neighbour_offsets`.
+[[deprecated("use restir::make_neighbour_offsets")]] RESTIR_HOST_DEVICE constexpr NeighbourOffsets
+make_neighbor_offsets() noexcept {
+    return make_neighbour_offsets();
+}
 
 } // namespace restir

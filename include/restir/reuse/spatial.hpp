@@ -149,17 +149,25 @@ struct SpatialNeighbours {
     }
 };
 
+/// What `find_spatial_neighbours` tells about each neighbour that lends: nothing.
+struct IgnoreLending {
+    RESTIR_HOST_DEVICE constexpr void operator()(PixelCoord) const noexcept {}
+};
+
 /// The neighbours of `pixel` that a spatial pass with `params` reuses: k offsets taken
 /// consecutively from `offsets` from a random start, rotated by a random angle, scaled by the
 /// radius and rounded, each tested once (`lends_reservoir`). Two uniform numbers. `centre` is
 /// the pixel whose neighbourhood is searched (the receiver, or its reprojection into the
 /// previous frame); `surface` the receiver's; `surfaces` an `ImageView` or a `SurfaceDecoder`.
-template <class Sample, Surface S, class Surfaces, class MaterialTest, UniformRng Rng>
+/// `lending(p)` is called for each neighbour that lends, in order (host code gathers them there
+/// once, where visiting the streamed set again would recompute each neighbour).
+template <class Sample, Surface S, class Surfaces, class MaterialTest, UniformRng Rng,
+          class Lending = IgnoreLending>
 requires SurfaceSource<Surfaces, S> RESTIR_HOST_DEVICE SpatialNeighbours<Sample, S, Surfaces>
 find_spatial_neighbours(PixelCoord centre, const S& surface,
                         ImageView<const Reservoir<Sample>> reservoirs, const Surfaces& surfaces,
                         const SpatialParams& params, const NeighbourOffsets& offsets,
-                        const MaterialTest& material_test, Rng& rng) {
+                        const MaterialTest& material_test, Rng& rng, const Lending& lending = {}) {
     using Set = SpatialNeighbours<Sample, S, Surfaces>;
     Set set;
     // Locals while searching: the set is the caller's memory.
@@ -173,6 +181,7 @@ find_spatial_neighbours(PixelCoord centre, const S& surface,
             !lends_reservoir(p, surface, reservoirs, surfaces, params.similarity, material_test))
             continue;
         lends |= 1u << i;
+        lending(p);
     }
     set.centre = centre;
     set.start = start;

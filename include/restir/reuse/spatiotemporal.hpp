@@ -79,9 +79,28 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
     return combine_inputs(current, surface, inputs, reuse, bridge, rng);
 }
 
+/// The fused pass as 0.1 called it: the bias correction was `TemporalParams::reuse` (now
+/// `reuse`, here the default: pairwise MIS with traced rays) and the frame number
+/// `TemporalParams::frame_index` (now `frame_index`, here 0). Kept until at least 0.3.
+template <class Sample, Surface S, Reprojection Reproject, class Target, class Visibility,
+          class MaterialTest, UniformRng Rng>
+requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
+    [[deprecated("pass ReuseParams and the frame index after SpatialParams")]] RESTIR_HOST_DEVICE
+    Reservoir<Sample>
+    spatiotemporal_resample(PixelCoord pixel, const Reservoir<Sample>& current, const S& surface,
+                            ImageView<const Reservoir<Sample>> previous_reservoirs,
+                            ImageView<const S> previous_surfaces, const Reproject& reproject,
+                            const TemporalParams& temporal, const SpatialParams& spatial,
+                            const NeighbourOffsets& offsets,
+                            const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng) {
+    return spatiotemporal_resample(pixel, current, surface, previous_reservoirs,
+                                   previous_surfaces, reproject, temporal, spatial, ReuseParams{},
+                                   0u, bridge, rng, offsets);
+}
+
 /// The fused pass as it was between 0.1 and 0.2, with the neighbour search in a
 /// `NeighbourSearch` and the bias correction in the removed `TemporalParams::reuse`: here
-/// `reuse` and `frame_index` are arguments of their own.
+/// `reuse` and `frame_index` are arguments of their own. Kept until at least 0.3.
 template <class Sample, Surface S, Reprojection Reproject, class Target, class Visibility,
           class MaterialTest, UniformRng Rng>
 requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>

@@ -44,4 +44,10 @@ RESTIR_HOST_DEVICE inline float diffuse_direction_pdf(glm::vec3 normal, glm::vec
     return max_of(0.0f, glm::dot(normal, direction)) * inv_pi;
 }
 
+/// `sample_diffuse_direction`'s name before 0.2 (when it lived in vpl/photon_shooter.hpp).
+[[deprecated("use restir::sample_diffuse_direction")]] RESTIR_HOST_DEVICE inline glm::vec3
+sample_emission_direction(glm::vec3 normal, float u0, float u1) {
+    return sample_diffuse_direction(normal, u0, u1);
+}
+
 } // namespace restir
