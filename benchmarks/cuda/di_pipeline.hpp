@@ -197,8 +197,8 @@ inline Scene make_cornell_box() {
         for (const Quad& q : f)
             add(q, centroid(q) - centre, white);
     };
-    block(box.short_block);
-    block(box.tall_block);
+    block(box.short_block.faces);
+    block(box.tall_block.faces);
     return scene;
 }
 

@@ -42,6 +42,60 @@ struct Camera {
 inline constexpr float ceiling_height = 548.8f;
 inline constexpr float light_height = ceiling_height - 0.5f;
 
+/// A white block: its five faces (the floor closes it), each to face outwards (away from the
+/// mean of its face centroids).
+struct Block {
+    Quad faces[5];
+};
+
+/// The short block's faces (as published).
+RESTIR_HOST_DEVICE constexpr Block short_block() noexcept {
+    return {{{{{130.0f, 165.0f, 65.0f},
+               {82.0f, 165.0f, 225.0f},
+               {240.0f, 165.0f, 272.0f},
+               {290.0f, 165.0f, 114.0f}}},
+             {{{290.0f, 0.0f, 114.0f},
+               {290.0f, 165.0f, 114.0f},
+               {240.0f, 165.0f, 272.0f},
+               {240.0f, 0.0f, 272.0f}}},
+             {{{130.0f, 0.0f, 65.0f},
+               {130.0f, 165.0f, 65.0f},
+               {290.0f, 165.0f, 114.0f},
+               {290.0f, 0.0f, 114.0f}}},
+             {{{82.0f, 0.0f, 225.0f},
+               {82.0f, 165.0f, 225.0f},
+               {130.0f, 165.0f, 65.0f},
+               {130.0f, 0.0f, 65.0f}}},
+             {{{240.0f, 0.0f, 272.0f},
+               {240.0f, 165.0f, 272.0f},
+               {82.0f, 165.0f, 225.0f},
+               {82.0f, 0.0f, 225.0f}}}}};
+}
+
+/// The tall block's faces (as published).
+RESTIR_HOST_DEVICE constexpr Block tall_block() noexcept {
+    return {{{{{423.0f, 330.0f, 247.0f},
+               {265.0f, 330.0f, 296.0f},
+               {314.0f, 330.0f, 456.0f},
+               {472.0f, 330.0f, 406.0f}}},
+             {{{423.0f, 0.0f, 247.0f},
+               {423.0f, 330.0f, 247.0f},
+               {472.0f, 330.0f, 406.0f},
+               {472.0f, 0.0f, 406.0f}}},
+             {{{472.0f, 0.0f, 406.0f},
+               {472.0f, 330.0f, 406.0f},
+               {314.0f, 330.0f, 456.0f},
+               {314.0f, 0.0f, 456.0f}}},
+             {{{314.0f, 0.0f, 456.0f},
+               {314.0f, 330.0f, 456.0f},
+               {265.0f, 330.0f, 296.0f},
+               {265.0f, 0.0f, 296.0f}}},
+             {{{265.0f, 0.0f, 296.0f},
+               {265.0f, 330.0f, 296.0f},
+               {423.0f, 330.0f, 247.0f},
+               {423.0f, 0.0f, 247.0f}}}}};
+}
+
 /// The whole box.
 struct Box {
     MaterialData materials[material_count]; ///< By `Material`.
@@ -53,10 +107,9 @@ struct Box {
     float interior[3];
     /// The direction the light faces (down).
     float light_facing[3];
-    /// The two white blocks' five faces each (the floor closes them), each facing outwards
-    /// (away from the mean of its face centroids).
-    Quad short_block[5];
-    Quad tall_block[5];
+    /// The two white blocks.
+    Block short_block;
+    Block tall_block;
     /// The far corner of the room's bounding box (the near one is the origin).
     float extent[3];
     Camera camera;
@@ -99,46 +152,8 @@ RESTIR_HOST_DEVICE constexpr Box box() noexcept {
         .room_materials = {white, light, white, white, green, red},
         .interior = {278.0f, 274.0f, 280.0f},
         .light_facing = {0.0f, -1.0f, 0.0f},
-        .short_block = {{{{130.0f, 165.0f, 65.0f},
-                          {82.0f, 165.0f, 225.0f},
-                          {240.0f, 165.0f, 272.0f},
-                          {290.0f, 165.0f, 114.0f}}},
-                        {{{290.0f, 0.0f, 114.0f},
-                          {290.0f, 165.0f, 114.0f},
-                          {240.0f, 165.0f, 272.0f},
-                          {240.0f, 0.0f, 272.0f}}},
-                        {{{130.0f, 0.0f, 65.0f},
-                          {130.0f, 165.0f, 65.0f},
-                          {290.0f, 165.0f, 114.0f},
-                          {290.0f, 0.0f, 114.0f}}},
-                        {{{82.0f, 0.0f, 225.0f},
-                          {82.0f, 165.0f, 225.0f},
-                          {130.0f, 165.0f, 65.0f},
-                          {130.0f, 0.0f, 65.0f}}},
-                        {{{240.0f, 0.0f, 272.0f},
-                          {240.0f, 165.0f, 272.0f},
-                          {82.0f, 165.0f, 225.0f},
-                          {82.0f, 0.0f, 225.0f}}}},
-        .tall_block = {{{{423.0f, 330.0f, 247.0f},
-                         {265.0f, 330.0f, 296.0f},
-                         {314.0f, 330.0f, 456.0f},
-                         {472.0f, 330.0f, 406.0f}}},
-                       {{{423.0f, 0.0f, 247.0f},
-                         {423.0f, 330.0f, 247.0f},
-                         {472.0f, 330.0f, 406.0f},
-                         {472.0f, 0.0f, 406.0f}}},
-                       {{{472.0f, 0.0f, 406.0f},
-                         {472.0f, 330.0f, 406.0f},
-                         {314.0f, 330.0f, 456.0f},
-                         {314.0f, 0.0f, 456.0f}}},
-                       {{{314.0f, 0.0f, 456.0f},
-                         {314.0f, 330.0f, 456.0f},
-                         {265.0f, 330.0f, 296.0f},
-                         {265.0f, 0.0f, 296.0f}}},
-                       {{{265.0f, 0.0f, 296.0f},
-                         {265.0f, 330.0f, 296.0f},
-                         {423.0f, 330.0f, 247.0f},
-                         {423.0f, 0.0f, 247.0f}}}},
+        .short_block = short_block(),
+        .tall_block = tall_block(),
         .extent = {556.0f, ceiling_height, 559.2f},
         .camera = {.look_from = {278.0f, 273.0f, -800.0f},
                    .look_at = {278.0f, 273.0f, 0.0f},

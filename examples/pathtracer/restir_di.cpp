@@ -147,36 +147,6 @@ struct RestirDi::Stages {
         }
     }
 
-    // The recipe's steps over 8 x 8 tiles, each stage's rays as packets, timed by stage.
-    template <class Frame>
-    void run(const Frame& f, Image& image, FrameTimings& t) {
-        const std::uint32_t w = settings.width, h = settings.height;
-        const restir::DiBuffers<restir::LightPointSample> buffers{{reservoirs.data(), w, h},
-                                                                 {scratch.data(), w, h}};
-        const auto initial = [&](restir::PixelCoord p, const GSurface& s, restir::Pcg32& rng) {
-            return candidates.initial_reservoir(static_cast<std::uint32_t>(p.x),
-                                                static_cast<std::uint32_t>(p.y), f.frame_index,
-                                                s, rng);
-        };
-        const auto rng_for = [&](restir::PixelCoord p, std::uint32_t stream) {
-            return restir::make_pixel_rng(static_cast<std::uint32_t>(p.x) +
-                                              static_cast<std::uint32_t>(p.y) * w,
-                                          f.frame_index, stream, settings.seed);
-        };
-        const auto shade = [&](restir::PixelCoord p, const Reservoir& r, bool visible) {
-            const std::uint32_t i =
-                static_cast<std::uint32_t>(p.x) + static_cast<std::uint32_t>(p.y) * w;
-            image.pixels[i] = radiance(i, f.frame_index, r, visible);
-            if constexpr (Frame::loads_history)
-                stored_history[i] = restir::pack_reservoir(r);
-        };
-        const restir::ReuseBridge bridge{
-            [](const restir::LightPointSample& x, const GSurface& s) { return point_target(x, s); },
-            PacketTracer{&gbuffer.rays(), gbuffer.point_visibility()}};
-        restir::run_di_frame(f, buffers, timed_tiles(f.frame_index, t), initial, bridge, rng_for,
-                             shade);
-    }
-
     // `for_each_tile` of the recipe: the pixel blocks as tiles (the initial stage's grouped by
     // the light tile they draw from, so that each is read once), each step's time added to its
     // phase.
@@ -208,6 +178,36 @@ struct RestirDi::Stages {
             break;
         }
         return t.shading;
+    }
+
+    // The recipe's steps over 8 x 8 tiles, each stage's rays as packets, timed by stage.
+    template <class Frame>
+    void run(const Frame& f, Image& image, FrameTimings& t) {
+        const std::uint32_t w = settings.width, h = settings.height;
+        const restir::DiBuffers<restir::LightPointSample> buffers{{reservoirs.data(), w, h},
+                                                                 {scratch.data(), w, h}};
+        const auto initial = [&](restir::PixelCoord p, const GSurface& s, restir::Pcg32& rng) {
+            return candidates.initial_reservoir(static_cast<std::uint32_t>(p.x),
+                                                static_cast<std::uint32_t>(p.y), f.frame_index,
+                                                s, rng);
+        };
+        const auto rng_for = [&](restir::PixelCoord p, std::uint32_t stream) {
+            return restir::make_pixel_rng(static_cast<std::uint32_t>(p.x) +
+                                              static_cast<std::uint32_t>(p.y) * w,
+                                          f.frame_index, stream, settings.seed);
+        };
+        const auto shade = [&](restir::PixelCoord p, const Reservoir& r, bool visible) {
+            const std::uint32_t i =
+                static_cast<std::uint32_t>(p.x) + static_cast<std::uint32_t>(p.y) * w;
+            image.pixels[i] = radiance(i, f.frame_index, r, visible);
+            if constexpr (Frame::loads_history)
+                stored_history[i] = restir::pack_reservoir(r);
+        };
+        const restir::ReuseBridge bridge{
+            [](const restir::LightPointSample& x, const GSurface& s) { return point_target(x, s); },
+            PacketTracer{&gbuffer.rays(), gbuffer.point_visibility()}};
+        restir::run_di_frame(f, buffers, timed_tiles(f.frame_index, t), initial, bridge, rng_for,
+                             shade);
     }
 
     // A pixel's radiance: its emission, the reservoir's light where `visible`, and with --gi

@@ -1,6 +1,9 @@
-// The built-in Cornell box: its room, its two white blocks, its materials and its camera.
+// The built-in Cornell box (examples/common/cornell_box.hpp, shared with the CUDA benchmark) as
+// the renderer's scene: its room, its two white blocks, its materials and its camera.
 #include "scene.hpp"
 #include "scene_quad.hpp"
+
+#include "../common/cornell_box.hpp"
 
 #include <glm/vec3.hpp>
 
@@ -12,51 +15,29 @@ namespace {
 
 glm::vec3 centroid(const Quad& quad) { return 0.25f * (quad[0] + quad[1] + quad[2] + quad[3]); }
 
-// The Cornell box's materials, by the index that add_quad takes.
-enum CornellMaterial : std::uint32_t { white, red, green, light };
+glm::vec3 to_vec3(const float (&v)[3]) { return {v[0], v[1], v[2]}; }
+Quad to_quad(const cornell::Quad& q) {
+    return {to_vec3(q.corners[0]), to_vec3(q.corners[1]), to_vec3(q.corners[2]),
+            to_vec3(q.corners[3])};
+}
 
-// The floor, the light, the ceiling and the walls, each facing the room's interior (the light
-// faces down).
-void add_cornell_room(Scene& scene) {
-    const glm::vec3 interior{278.0f, 274.0f, 280.0f};
-    const auto add_room_quad = [&](const Quad& quad, std::uint32_t material) {
-        add_quad(scene, quad, interior - centroid(quad), material);
-    };
-    add_room_quad(
-        {{{552.8f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 559.2f}, {549.6f, 0.0f, 559.2f}}},
-        white);
-
-    // Lowered by 0.5 mm so that it is not coplanar with the ceiling.
-    constexpr float light_y = 548.8f - 0.5f;
-    add_quad(scene,
-             {{{343.0f, light_y, 227.0f},
-               {343.0f, light_y, 332.0f},
-               {213.0f, light_y, 332.0f},
-               {213.0f, light_y, 227.0f}}},
-             {0.0f, -1.0f, 0.0f}, light);
-
-    add_room_quad({{{556.0f, 548.8f, 0.0f},
-                    {556.0f, 548.8f, 559.2f},
-                    {0.0f, 548.8f, 559.2f},
-                    {0.0f, 548.8f, 0.0f}}},
-                  white);
-    add_room_quad({{{549.6f, 0.0f, 559.2f},
-                    {0.0f, 0.0f, 559.2f},
-                    {0.0f, 548.8f, 559.2f},
-                    {556.0f, 548.8f, 559.2f}}},
-                  white);
-    add_room_quad(
-        {{{0.0f, 0.0f, 559.2f}, {0.0f, 0.0f, 0.0f}, {0.0f, 548.8f, 0.0f}, {0.0f, 548.8f, 559.2f}}},
-        green);
-    add_room_quad({{{552.8f, 0.0f, 0.0f},
-                    {549.6f, 0.0f, 559.2f},
-                    {556.0f, 548.8f, 559.2f},
-                    {556.0f, 548.8f, 0.0f}}},
-                  red);
+// The floor, the light, the ceiling and the walls (cornell::Box::room, in its order), each
+// facing the room's interior; the light faces down.
+void add_cornell_room(Scene& scene, const cornell::Box& box) {
+    const glm::vec3 interior = to_vec3(box.interior);
+    for (std::uint32_t i = 0; i < 6u; ++i) {
+        const Quad quad = to_quad(box.room[i]);
+        const glm::vec3 towards =
+            i == cornell::light_quad ? to_vec3(box.light_facing) : interior - centroid(quad);
+        add_quad(scene, quad, towards, box.room_materials[i]);
+    }
 }
 
 // A white convex block of five faces (the floor closes it), each facing outwards.
-void add_block(Scene& scene, const std::array<Quad, 5>& faces) {
+void add_block(Scene& scene, const cornell::Block& block) {
+    std::array<Quad, 5> faces;
+    for (std::size_t i = 0; i < faces.size(); ++i)
+        faces[i] = to_quad(block.faces[i]);
     // The mean of all face corners lies strictly inside the convex block.
     glm::vec3 centre{0.0f};
     for (const Quad& face : faces) {
@@ -64,76 +45,24 @@ void add_block(Scene& scene, const std::array<Quad, 5>& faces) {
     }
     centre /= static_cast<float>(faces.size());
     for (const Quad& face : faces) {
-        add_quad(scene, face, centroid(face) - centre, white);
+        add_quad(scene, face, centroid(face) - centre, cornell::white);
     }
-}
-
-void add_cornell_short_block(Scene& scene) {
-    add_block(scene, {{
-                         {{{130.0f, 165.0f, 65.0f},
-                           {82.0f, 165.0f, 225.0f},
-                           {240.0f, 165.0f, 272.0f},
-                           {290.0f, 165.0f, 114.0f}}},
-                         {{{290.0f, 0.0f, 114.0f},
-                           {290.0f, 165.0f, 114.0f},
-                           {240.0f, 165.0f, 272.0f},
-                           {240.0f, 0.0f, 272.0f}}},
-                         {{{130.0f, 0.0f, 65.0f},
-                           {130.0f, 165.0f, 65.0f},
-                           {290.0f, 165.0f, 114.0f},
-                           {290.0f, 0.0f, 114.0f}}},
-                         {{{82.0f, 0.0f, 225.0f},
-                           {82.0f, 165.0f, 225.0f},
-                           {130.0f, 165.0f, 65.0f},
-                           {130.0f, 0.0f, 65.0f}}},
-                         {{{240.0f, 0.0f, 272.0f},
-                           {240.0f, 165.0f, 272.0f},
-                           {82.0f, 165.0f, 225.0f},
-                           {82.0f, 0.0f, 225.0f}}},
-                     }});
-}
-
-void add_cornell_tall_block(Scene& scene) {
-    add_block(scene, {{
-                         {{{423.0f, 330.0f, 247.0f},
-                           {265.0f, 330.0f, 296.0f},
-                           {314.0f, 330.0f, 456.0f},
-                           {472.0f, 330.0f, 406.0f}}},
-                         {{{423.0f, 0.0f, 247.0f},
-                           {423.0f, 330.0f, 247.0f},
-                           {472.0f, 330.0f, 406.0f},
-                           {472.0f, 0.0f, 406.0f}}},
-                         {{{472.0f, 0.0f, 406.0f},
-                           {472.0f, 330.0f, 406.0f},
-                           {314.0f, 330.0f, 456.0f},
-                           {314.0f, 0.0f, 456.0f}}},
-                         {{{314.0f, 0.0f, 456.0f},
-                           {314.0f, 330.0f, 456.0f},
-                           {265.0f, 330.0f, 296.0f},
-                           {265.0f, 0.0f, 296.0f}}},
-                         {{{265.0f, 0.0f, 296.0f},
-                           {265.0f, 330.0f, 296.0f},
-                           {423.0f, 330.0f, 247.0f},
-                           {423.0f, 0.0f, 247.0f}}},
-                     }});
 }
 
 } // namespace
 
 Scene make_cornell_box() {
+    constexpr cornell::Box box = cornell::box();
     Scene scene;
     scene.name = "cornell";
-    scene.materials = {
-        {"white", {0.725f, 0.71f, 0.68f}, {0.0f, 0.0f, 0.0f}},
-        {"red", {0.63f, 0.065f, 0.05f}, {0.0f, 0.0f, 0.0f}},
-        {"green", {0.14f, 0.45f, 0.091f}, {0.0f, 0.0f, 0.0f}},
-        {"light", {0.78f, 0.78f, 0.78f}, {17.0f, 12.0f, 4.0f}},
-    };
-    add_cornell_room(scene);
-    add_cornell_short_block(scene);
-    add_cornell_tall_block(scene);
-    scene.camera = CameraSetup{
-        {278.0f, 273.0f, -800.0f}, {278.0f, 273.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, 39.3077f};
+    for (std::uint32_t m = 0; m < cornell::material_count; ++m)
+        scene.materials.push_back({cornell::material_names[m], to_vec3(box.materials[m].albedo),
+                                   to_vec3(box.materials[m].emission)});
+    add_cornell_room(scene, box);
+    add_block(scene, box.short_block);
+    add_block(scene, box.tall_block);
+    scene.camera = CameraSetup{to_vec3(box.camera.look_from), to_vec3(box.camera.look_at),
+                               to_vec3(box.camera.up), box.camera.fov_degrees};
     return scene;
 }
 

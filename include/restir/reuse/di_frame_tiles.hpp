@@ -285,7 +285,7 @@ void run_di_step(const DiFrame<Sample, S, Reproject, History, Surfaces>& frame,
             else
                 lent = found[k];
             if (reuse.asks && input[pixel].has_sample())
-                reuse.ask(k, input[pixel], SingleReuseInput<Sample, S>{lent});
+                reuse.ask(k, input[pixel], detail::SingleReuseInput<Sample, S>{lent});
         });
         reuse.queries.trace(bridge.visibility);
         tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t k) {

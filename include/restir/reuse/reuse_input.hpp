@@ -87,7 +87,9 @@ struct ReuseInputSpan {
     }
 };
 
-/// One input (temporal reuse).
+namespace detail {
+
+/// One input (temporal reuse), its M capped at `candidate_cap`.
 template <class Sample, class SurfaceT>
 struct SingleReuseInput {
     ReuseInput<Sample, SurfaceT> input{};
@@ -97,6 +99,13 @@ struct SingleReuseInput {
         return input;
     }
 };
+
+} // namespace detail
+
+/// The one-input set's name before 0.2, when it was public.
+template <class Sample, class SurfaceT>
+using SingleReuseInput [[deprecated("pass a ReuseInputSpan of one input")]] =
+    detail::SingleReuseInput<Sample, SurfaceT>;
 
 /// Whether pixel `p` may lend its reservoir to `receiver`: `p` lies in both images, the
 /// reservoir is finite and the surfaces are similar; `surfaces` an `ImageView` or a

@@ -96,7 +96,7 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
         return current;
     return combine_inputs(
         current, surface,
-        SingleReuseInput<Sample, S>{input, history_cap(current.candidate_count, params)}, reuse,
+        detail::SingleReuseInput<Sample, S>{input, history_cap(current.candidate_count, params)}, reuse,
         bridge, rng);
 }
 
