@@ -22,11 +22,12 @@
 namespace restir {
 
 /// A visibility question: is `*sample` visible from `*surface`? Both point into the recipe's
-/// buffers, valid during the `trace` call that receives them.
+/// buffers, valid during the `trace` call that receives them. (A plain aggregate without
+/// member initialisers, so that a tile's array of a thousand questions costs no zeroing.)
 template <class Sample, class S>
 struct VisibilityQuery {
-    const Sample* sample = nullptr;
-    const S* surface = nullptr;
+    const Sample* sample;
+    const S* surface;
 };
 
 /// Answers many visibility questions at once. Required expression:
