@@ -159,8 +159,8 @@ TEST(Conformance, ReusePassesInstantiateWithStubTypes) {
     auto out = restir::temporal_resample({0, 0}, reservoirs[0], surfaces[0], view, surface_view,
                                          stub::Reprojection{}, temporal, reuse, 0u, bridge, rng);
     EXPECT_EQ(out.candidate_count, 2u);
-    out = restir::spatial_resample({0, 0}, view, surface_view, spatial, reuse, bridge, rng,
-                                   offsets);
+    out =
+        restir::spatial_resample({0, 0}, view, surface_view, spatial, reuse, bridge, rng, offsets);
     EXPECT_GE(out.candidate_count, 1u);
     out = restir::spatiotemporal_resample({1, 1}, reservoirs[3], surfaces[3], view, surface_view,
                                           stub::Reprojection{}, temporal, spatial, reuse, 0u,
@@ -216,9 +216,9 @@ TEST(Conformance, FrameRecipeInstantiatesWithStubTypes) {
     const auto one_tile = [](const restir::DiStep&, const auto& body) {
         body(restir::PixelTile{{0, 0}, {2, 2}});
     };
-    restir::run_di_frame(
-        frame, buffers, one_tile, initial,
-        restir::ReuseBridge{stub::Target{}, restir::OneByOne<stub::Visibility>{}}, rng_for, shade);
+    restir::run_di_frame(frame, buffers, one_tile, initial,
+                         restir::ReuseBridge{stub::Target{}, restir::OneByOne<stub::Visibility>{}},
+                         rng_for, shade);
     EXPECT_EQ(shaded, 8u);
 }
 

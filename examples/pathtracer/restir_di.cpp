@@ -185,11 +185,11 @@ struct RestirDi::Stages {
     void run(const Frame& f, Image& image, FrameTimings& t) {
         const std::uint32_t w = settings.width, h = settings.height;
         const restir::DiBuffers<restir::LightPointSample> buffers{{reservoirs.data(), w, h},
-                                                                 {scratch.data(), w, h}};
+                                                                  {scratch.data(), w, h}};
         const auto initial = [&](restir::PixelCoord p, const GSurface& s, restir::Pcg32& rng) {
             return candidates.initial_reservoir(static_cast<std::uint32_t>(p.x),
-                                                static_cast<std::uint32_t>(p.y), f.frame_index,
-                                                s, rng);
+                                                static_cast<std::uint32_t>(p.y), f.frame_index, s,
+                                                rng);
         };
         const auto rng_for = [&](restir::PixelCoord p, std::uint32_t stream) {
             return restir::make_pixel_rng(static_cast<std::uint32_t>(p.x) +

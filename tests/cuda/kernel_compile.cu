@@ -236,11 +236,11 @@ __global__ void reuse_kernel(const glm::vec3* light_positions, const GBufferTexe
     const restir::SpatialParams spatial = restir::default_spatial_params();
     const restir::ReuseParams reuse{restir::BiasCorrection::balance_heuristic};
     temporal_out[index] =
-        restir::temporal_resample({x, y}, current, texels[index], history, surfaces,
-                                  StaticCamera{}, temporal, reuse, 1u, bridge, rng);
-    spatial_out[index] = restir::spatiotemporal_resample({x, y}, current, texels[index], history,
-                                                         surfaces, StaticCamera{}, temporal,
-                                                         spatial, reuse, 1u, bridge, rng);
+        restir::temporal_resample({x, y}, current, texels[index], history, surfaces, StaticCamera{},
+                                  temporal, reuse, 1u, bridge, rng);
+    spatial_out[index] =
+        restir::spatiotemporal_resample({x, y}, current, texels[index], history, surfaces,
+                                        StaticCamera{}, temporal, spatial, reuse, 1u, bridge, rng);
     spatial_out[index] =
         restir::spatial_resample({x, y}, history, surfaces, spatial, reuse, bridge, rng);
     spatial_out[index] =
@@ -295,39 +295,37 @@ __global__ void recipe_step_kernel(Frame frame, restir::DiStep step,
         return;
     const restir::ReuseBridge bridge{SurfaceTarget{light_positions}, HeightVisibility{}};
     frame.template run_stage<Stage>(step, pixel, buffers, InitialRis{light_positions, light_count},
-                                    bridge, PixelRngs{frame.frame_index, buffers.out.width},
-                                    shade);
+                                    bridge, PixelRngs{frame.frame_index, buffers.out.width}, shade);
 }
 
 // The whole frame as a GPU renderer runs it: the recipe's steps in order, a kernel each.
 template <class Frame, class Shade = restir::NoShading>
-void launch_recipe(const Frame& frame, const glm::vec3* light_positions,
-                   std::uint32_t light_count, restir::DiBuffers<restir::LightSampleRef> buffers,
-                   Shade shade = {}) {
+void launch_recipe(const Frame& frame, const glm::vec3* light_positions, std::uint32_t light_count,
+                   restir::DiBuffers<restir::LightSampleRef> buffers, Shade shade = {}) {
     const dim3 block(8u, 8u);
     const dim3 grid((buffers.out.width + 7u) / 8u, (buffers.out.height + 7u) / 8u);
     for (std::uint32_t i = 0; i < frame.step_count(); ++i) {
         const restir::DiStep s = frame.step(i);
         switch (s.stage) {
         case restir::DiStage::initial:
-            recipe_step_kernel<restir::DiStage::initial><<<grid, block>>>(
-                frame, s, light_positions, light_count, buffers);
+            recipe_step_kernel<restir::DiStage::initial>
+                <<<grid, block>>>(frame, s, light_positions, light_count, buffers);
             break;
         case restir::DiStage::temporal:
-            recipe_step_kernel<restir::DiStage::temporal><<<grid, block>>>(
-                frame, s, light_positions, light_count, buffers);
+            recipe_step_kernel<restir::DiStage::temporal>
+                <<<grid, block>>>(frame, s, light_positions, light_count, buffers);
             break;
         case restir::DiStage::spatial:
-            recipe_step_kernel<restir::DiStage::spatial><<<grid, block>>>(
-                frame, s, light_positions, light_count, buffers);
+            recipe_step_kernel<restir::DiStage::spatial>
+                <<<grid, block>>>(frame, s, light_positions, light_count, buffers);
             break;
         case restir::DiStage::boiling:
-            recipe_step_kernel<restir::DiStage::boiling><<<grid, block>>>(
-                frame, s, light_positions, light_count, buffers);
+            recipe_step_kernel<restir::DiStage::boiling>
+                <<<grid, block>>>(frame, s, light_positions, light_count, buffers);
             break;
         case restir::DiStage::finish:
-            recipe_step_kernel<restir::DiStage::finish><<<grid, block>>>(
-                frame, s, light_positions, light_count, buffers, shade);
+            recipe_step_kernel<restir::DiStage::finish>
+                <<<grid, block>>>(frame, s, light_positions, light_count, buffers, shade);
             break;
         }
     }

@@ -17,8 +17,7 @@ restir::Reservoir<stub::Sample> probe_reuse(const restir::Reservoir<stub::Sample
     const restir::ReuseBridge bridge{stub::Target{}, stub::Visibility{}};
     rng.state += static_cast<std::uint32_t>(
         restir::sample_emission_direction(glm::vec3(0.0f, 0.0f, 1.0f), 0.5f, 0.5f).z);
-    return restir::spatiotemporal_resample({0, 0}, current, surface, {&current, 1u, 1u},
-                                           {&surface, 1u, 1u}, stub::Reprojection{},
-                                           restir::default_temporal_params(),
-                                           restir::default_spatial_params(), offsets, bridge, rng);
+    return restir::spatiotemporal_resample(
+        {0, 0}, current, surface, {&current, 1u, 1u}, {&surface, 1u, 1u}, stub::Reprojection{},
+        restir::default_temporal_params(), restir::default_spatial_params(), offsets, bridge, rng);
 }

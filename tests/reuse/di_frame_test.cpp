@@ -346,8 +346,8 @@ TEST(DiFrame, TilesWithBatchedRaysEqualPixels) {
             for (std::uint32_t frame = 0; frame < 6; ++frame) {
                 const bool cut = frame == 3;
                 const Image& expected = pixels.render(frame, cut);
-                const std::string name =
-                    variant.name + ", tiles of " + std::to_string(side) + ", frame " + std::to_string(frame);
+                const std::string name = variant.name + ", tiles of " + std::to_string(side) +
+                                         ", frame " + std::to_string(frame);
                 expect_same(tiles.render(frame, cut), expected, name);
                 expect_same(loaded_tiles.render(frame, cut), expected, name + ", loaded history");
             }
@@ -369,8 +369,8 @@ TEST(DiFrame, WithoutHistoryTemporalReturnsItsInput) {
     current.finalize();
     restir::Pcg32 rng;
     const restir::ReuseBridge bridge{Target{}, Visibility{}};
-    const Reservoir<LightId> result =
-        no_history.temporal({0, 0}, current, no_history.temporal_input({0, 0}, bridge), bridge, rng);
+    const Reservoir<LightId> result = no_history.temporal(
+        {0, 0}, current, no_history.temporal_input({0, 0}, bridge), bridge, rng);
     EXPECT_EQ(result.sample.id, 3u);
     EXPECT_EQ(result.contribution_weight, current.contribution_weight);
     EXPECT_EQ(result.candidate_count, current.candidate_count);
@@ -402,7 +402,8 @@ TEST(DiFrame, StepsPingPongIntoOutAndRetestOnlyBeforeTracedPasses) {
                                              std::to_string(boiling) + ", visibility " +
                                              std::to_string(static_cast<int>(v));
                     const std::uint32_t count = f.step_count();
-                    ASSERT_EQ(count, 2u + (with_history ? 1u : 0u) + passes + (boiling ? 1u : 0u)) << name;
+                    ASSERT_EQ(count, 2u + (with_history ? 1u : 0u) + passes + (boiling ? 1u : 0u))
+                        << name;
                     std::vector<restir::DiStage> stages;
                     for (std::uint32_t i = 0; i < count; ++i) {
                         const restir::DiStep s = f.step(i);
@@ -412,14 +413,15 @@ TEST(DiFrame, StepsPingPongIntoOutAndRetestOnlyBeforeTracedPasses) {
                         }
                         const bool before_spatial =
                             i + 1u < count && f.step(i + 1u).stage == restir::DiStage::spatial;
-                        EXPECT_EQ(s.retest, i > 0u && before_spatial &&
-                                                v == restir::ReuseVisibility::traced)
+                        EXPECT_EQ(s.retest,
+                                  i > 0u && before_spatial && v == restir::ReuseVisibility::traced)
                             << name << ", step " << i;
                         Frame one_over_m = f;
                         one_over_m.params.spatial_bias_correction = BiasCorrection::none;
                         EXPECT_FALSE(one_over_m.step(i).retest) << name << ", step " << i;
                     }
-                    EXPECT_EQ(f.step(count - 2u).output, 0u) << name << ": the last writer writes out";
+                    EXPECT_EQ(f.step(count - 2u).output, 0u)
+                        << name << ": the last writer writes out";
                     EXPECT_EQ(f.step(count - 1u).output, 0u) << name;
                     std::vector<restir::DiStage> expected{restir::DiStage::initial};
                     if (with_history)

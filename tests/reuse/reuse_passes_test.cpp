@@ -131,15 +131,18 @@ TEST(TemporalReuse, FallsBackToTheCurrentReservoirWithoutUsableHistory) {
         restir::Pcg32 rng;
         // Disocclusion: the reprojection names no pixel of the previous image.
         expect_same(restir::temporal_resample({0, 0}, current, Point{}, history.reservoir_view(),
-                                              history.surface_view(), to(-1), params, reuse, 0u, bridge, rng),
+                                              history.surface_view(), to(-1), params, reuse, 0u,
+                                              bridge, rng),
                     current);
         // A dissimilar surface (normals 60 degrees apart).
         expect_same(restir::temporal_resample({0, 0}, current, Point{}, history.reservoir_view(),
-                                              history.surface_view(), to(1), params, reuse, 0u, bridge, rng),
+                                              history.surface_view(), to(1), params, reuse, 0u,
+                                              bridge, rng),
                     current);
         // A history holding NaN and infinity.
         expect_same(restir::temporal_resample({0, 0}, current, Point{}, history.reservoir_view(),
-                                              history.surface_view(), to(2), params, reuse, 0u, bridge, rng),
+                                              history.surface_view(), to(2), params, reuse, 0u,
+                                              bridge, rng),
                     current);
         // An invalid receiver keeps its reservoir.
         expect_same(restir::temporal_resample({0, 0}, current, Point{{0, 0, 1}, 1.0f, false},
@@ -147,9 +150,9 @@ TEST(TemporalReuse, FallsBackToTheCurrentReservoirWithoutUsableHistory) {
                                               to(0), params, reuse, 0u, bridge, rng),
                     current);
         // Usable history is combined: M adds up.
-        const Reservoir<LightId> combined =
-            restir::temporal_resample({0, 0}, current, Point{}, history.reservoir_view(),
-                                      history.surface_view(), to(0), params, reuse, 0u, bridge, rng);
+        const Reservoir<LightId> combined = restir::temporal_resample(
+            {0, 0}, current, Point{}, history.reservoir_view(), history.surface_view(), to(0),
+            params, reuse, 0u, bridge, rng);
         EXPECT_EQ(combined.candidate_count, 12u);
         EXPECT_TRUE(combined.is_well_formed());
     }
@@ -350,8 +353,8 @@ TEST(SpatialReuse, IgnoresNonFiniteNeighboursAndInvalidReceivers) {
         params.neighbour_count = 8u;
         params.radius = 1.5f;
         restir::Pcg32 rng = restir::make_pixel_rng(4u, 0u, 0u);
-        const Reservoir<LightId> out =
-            restir::spatial_resample({1, 1}, view, surface_view, params, reuse, bridge, rng, offsets);
+        const Reservoir<LightId> out = restir::spatial_resample({1, 1}, view, surface_view, params,
+                                                                reuse, bridge, rng, offsets);
         EXPECT_EQ(out.sample.id, 2u);
         EXPECT_EQ(out.candidate_count, 4u);
         EXPECT_FLOAT_EQ(out.contribution_weight, reservoirs[4].contribution_weight);
@@ -382,8 +385,8 @@ TEST(SpatialReuse, AddsTheCandidateCountsOfSimilarNeighbours) {
         params.neighbour_count = 15u;
         params.radius = 1.5f;
         restir::Pcg32 rng = restir::make_pixel_rng(4u, 0u, 0u);
-        const Reservoir<LightId> out =
-            restir::spatial_resample({1, 1}, view, surface_view, params, reuse, bridge, rng, offsets);
+        const Reservoir<LightId> out = restir::spatial_resample({1, 1}, view, surface_view, params,
+                                                                reuse, bridge, rng, offsets);
         // Only the four edge neighbours can take part, each 4 candidates, at most once per
         // offset that lands on them.
         EXPECT_EQ(out.candidate_count % 4u, 0u);

@@ -175,9 +175,9 @@ RESTIR_HOST_DEVICE std::uint32_t for_each_input(const Inputs& inputs, Visit&& vi
     return taken;
 }
 
-/// The inputs that take part, gathered once into an array: what host code visits, since on a
-/// CPU visiting a set again for every pass over the inputs (checks, lookups) cost the spatial
-/// pass 5-15 %; device code visits the set itself and keeps no array.
+/// The inputs that take part, gathered once into an array: what host code visits, so that the
+/// checks and lookups of a streamed set are not repeated at every pass over the inputs; device
+/// code visits the set itself and keeps no array (registers, not local memory).
 template <class Input>
 struct PackedInputs {
     static constexpr bool packed = true;
@@ -332,8 +332,8 @@ combine_pairwise(const Reservoir<Sample>& canonical, const S& surface, const Inp
         inputs, [&](std::uint32_t, const Reservoir<Sample>& r, const S&) {
             total_count += static_cast<float>(r.candidate_count);
         });
-    // Every return returns one named result, so that it is built in place (a 64-byte copy
-    // through the stack per pixel showed in the renderer's spatial phase).
+    // Every return returns one named result, so that it is built in place in the caller's
+    // memory rather than copied through the stack.
     Reservoir<Sample> result;
     if (k == 0u) {
         result = canonical;

@@ -83,8 +83,8 @@ enum class DiStage : std::uint8_t { initial, temporal, spatial, boiling, finish 
 /// `DiBuffers`), and whether its new samples are retested before the next step reads them.
 struct DiStep {
     DiStage stage = DiStage::initial;
-    std::uint32_t pass = 0u;  ///< The spatial pass (0 for the other stages).
-    std::uint32_t input = 0u; ///< Buffer read (the initial stage reads none).
+    std::uint32_t pass = 0u;   ///< The spatial pass (0 for the other stages).
+    std::uint32_t input = 0u;  ///< Buffer read (the initial stage reads none).
     std::uint32_t output = 0u; ///< Buffer written; `finish` writes the buffer it reads, `out`.
     /// Results whose sample differs from the input's are visibility-tested (W = 0 when
     /// occluded): the next step is a spatial pass whose MIS weights trace rays (an unbiased
@@ -193,7 +193,8 @@ requires(std::same_as<History, ImageView<const Reservoir<Sample>>> ||
         // Before a spatial pass with traced MIS rays, the samples that a reuse step brought in
         // are tested where they now are (the initial stage tests all of its own).
         const bool reuses = s.stage == DiStage::temporal || s.stage == DiStage::spatial;
-        const bool next_is_spatial = i >= temporal_steps && i < temporal_steps + params.spatial_passes;
+        const bool next_is_spatial =
+            i >= temporal_steps && i < temporal_steps + params.spatial_passes;
         s.retest = reuses && next_is_spatial && traces_mis_rays(params.visibility) &&
                    params.spatial_bias_correction != BiasCorrection::none;
         return s;
@@ -248,11 +249,11 @@ requires(std::same_as<History, ImageView<const Reservoir<Sample>>> ||
     template <class Initial, class Target, class Visibility, class MaterialTest, class RngFor,
               class Shade = NoShading>
     requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
-        RESTIR_HOST_DEVICE void run_pixel(const DiStep& step, PixelCoord pixel,
-                                          const DiBuffers<Sample>& buffers,
-                                          const Initial& initial_candidates,
-                                          const ReuseBridge<Target, Visibility, MaterialTest>& bridge,
-                                          const RngFor& rng_for, const Shade& shade = {}) const {
+        RESTIR_HOST_DEVICE void
+        run_pixel(const DiStep& step, PixelCoord pixel, const DiBuffers<Sample>& buffers,
+                  const Initial& initial_candidates,
+                  const ReuseBridge<Target, Visibility, MaterialTest>& bridge,
+                  const RngFor& rng_for, const Shade& shade = {}) const {
         switch (step.stage) {
         case DiStage::initial:
             return run_stage<DiStage::initial>(step, pixel, buffers, initial_candidates, bridge,
@@ -277,11 +278,11 @@ requires(std::same_as<History, ImageView<const Reservoir<Sample>>> ||
     template <DiStage Stage, class Initial, class Target, class Visibility, class MaterialTest,
               class RngFor, class Shade = NoShading>
     requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
-        RESTIR_HOST_DEVICE void run_stage(const DiStep& step, PixelCoord pixel,
-                                          const DiBuffers<Sample>& buffers,
-                                          const Initial& initial_candidates,
-                                          const ReuseBridge<Target, Visibility, MaterialTest>& bridge,
-                                          const RngFor& rng_for, const Shade& shade = {}) const {
+        RESTIR_HOST_DEVICE void
+        run_stage(const DiStep& step, PixelCoord pixel, const DiBuffers<Sample>& buffers,
+                  const Initial& initial_candidates,
+                  const ReuseBridge<Target, Visibility, MaterialTest>& bridge,
+                  const RngFor& rng_for, const Shade& shade = {}) const {
         RESTIR_ASSERT(step.stage == Stage);
         const ImageView<Reservoir<Sample>> output = buffers[step.output];
         const ImageView<const Reservoir<Sample>> input = buffers[step.input];
@@ -353,8 +354,9 @@ requires(std::same_as<History, ImageView<const Reservoir<Sample>>> ||
             if (history.contains(p)) {
                 found.reservoir = history.load(p);
                 found.surface = history.surface(p);
-                found.lends = found.reservoir.is_well_formed() &&
-                              surfaces_similar(here, found.surface, similarity, bridge.material_test);
+                found.lends =
+                    found.reservoir.is_well_formed() &&
+                    surfaces_similar(here, found.surface, similarity, bridge.material_test);
             }
         } else if constexpr (loads_history) {
             if (history.contains(p) && previous_surfaces.contains(p)) {
@@ -373,9 +375,9 @@ requires(std::same_as<History, ImageView<const Reservoir<Sample>>> ||
     /// (`current` unchanged where `found` lends nothing). Draws one uniform number per input
     /// that takes part.
     template <class Input, class Bridge, UniformRng Rng>
-    RESTIR_HOST_DEVICE Reservoir<Sample> temporal(PixelCoord pixel, const Reservoir<Sample>& current,
-                                                  const Input& found, const Bridge& bridge,
-                                                  Rng& rng) const {
+    RESTIR_HOST_DEVICE Reservoir<Sample>
+    temporal(PixelCoord pixel, const Reservoir<Sample>& current, const Input& found,
+             const Bridge& bridge, Rng& rng) const {
         ReuseInput<Sample, S> input{};
         if constexpr (loads_history)
             input = found.lending();
@@ -384,8 +386,9 @@ requires(std::same_as<History, ImageView<const Reservoir<Sample>>> ||
         // One named result, returned once, so that it is built in place.
         Reservoir<Sample> result = current;
         if (input.reservoir != nullptr && combines_at(pixel))
-            result = restir::temporal_combine(current, surface_at(surfaces, pixel), input,
-                                              params.temporal, temporal_reuse_params(), bridge, rng);
+            result =
+                restir::temporal_combine(current, surface_at(surfaces, pixel), input,
+                                         params.temporal, temporal_reuse_params(), bridge, rng);
         return result;
     }
     /// The neighbours that a spatial pass of `pixel` (which must `combines_at`) reuses from
@@ -402,10 +405,9 @@ requires(std::same_as<History, ImageView<const Reservoir<Sample>>> ||
     /// A spatial pass's combination at `pixel` (which must `combines_at`) of its reservoir in
     /// `input` with `inputs` (the set `neighbours` found, with the same generator).
     template <class Inputs, class Bridge, UniformRng Rng>
-    RESTIR_HOST_DEVICE Reservoir<Sample> spatial(PixelCoord pixel,
-                                                 ImageView<const Reservoir<Sample>> input,
-                                                 const Inputs& inputs, const Bridge& bridge,
-                                                 Rng& rng) const {
+    RESTIR_HOST_DEVICE Reservoir<Sample>
+    spatial(PixelCoord pixel, ImageView<const Reservoir<Sample>> input, const Inputs& inputs,
+            const Bridge& bridge, Rng& rng) const {
         return combine_inputs(input[pixel], surface_at(surfaces, pixel), inputs,
                               spatial_reuse_params(), bridge, rng);
     }
@@ -422,10 +424,9 @@ private:
                                                             : params.visibility;
     }
     template <class Visibility>
-    RESTIR_HOST_DEVICE void retest_immediately(const DiStep& step, PixelCoord pixel,
-                                               Reservoir<Sample>& result,
-                                               const Reservoir<Sample>& input,
-                                               const Visibility& visible) const {
+    RESTIR_HOST_DEVICE void
+    retest_immediately(const DiStep& step, PixelCoord pixel, Reservoir<Sample>& result,
+                       const Reservoir<Sample>& input, const Visibility& visible) const {
         if (step.retest && retests(result, input))
             apply_visibility(result, surface_at(surfaces, pixel), visible);
     }

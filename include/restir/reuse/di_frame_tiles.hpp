@@ -246,16 +246,18 @@ template <class Sample, Surface S, Reprojection Reproject, class History, class 
           class Initial, class Target, class Tracer, class MaterialTest, class RngFor,
           class Shade = NoShading>
 requires BatchVisibility<Tracer, Sample, S> && TargetFunction<Target, Sample, S>
-void run_di_step(const DiFrame<Sample, S, Reproject, History, Surfaces>& frame,
-                 const DiStep& step, const PixelTile& tile, const DiBuffers<Sample>& buffers,
+void run_di_step(const DiFrame<Sample, S, Reproject, History, Surfaces>& frame, const DiStep& step,
+                 const PixelTile& tile, const DiBuffers<Sample>& buffers,
                  const Initial& initial_candidates,
                  const ReuseBridge<Target, Tracer, MaterialTest>& bridge, const RngFor& rng_for,
                  const Shade& shade = {}) {
     static_assert(surfaces_in_array<Surfaces, S>,
                   "run_di_step needs this frame's surfaces in an ImageView");
-    static_assert(requires(const Sample& a, const Sample& b) {
-        { a == b } -> std::convertible_to<bool>;
-    }, "run_di_step matches MIS answers by sample: Sample needs operator==");
+    static_assert(
+        requires(const Sample& a, const Sample& b) {
+            { a == b } -> std::convertible_to<bool>;
+        },
+        "run_di_step matches MIS answers by sample: Sample needs operator==");
     RESTIR_ASSERT(tile.pixel_count() <= max_tile_pixels);
     using Frame = DiFrame<Sample, S, Reproject, History, Surfaces>;
     const ImageView<Reservoir<Sample>> output = buffers[step.output];
@@ -269,10 +271,9 @@ void run_di_step(const DiFrame<Sample, S, Reproject, History, Surfaces>& frame,
         tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t) {
             output[pixel] = frame.initial_reservoir(pixel, initial_candidates, rng_for);
         });
-        detail::test_tile<Sample, S>(tile, output, surfaces, bridge.visibility,
-                                     [&](PixelCoord, const Reservoir<Sample>& r) {
-                                         return frame.tests(r);
-                                     });
+        detail::test_tile<Sample, S>(
+            tile, output, surfaces, bridge.visibility,
+            [&](PixelCoord, const Reservoir<Sample>& r) { return frame.tests(r); });
         return;
     case DiStage::temporal: {
         detail::TileReuse<Sample, S, Target, Tracer, MaterialTest> reuse{
@@ -337,8 +338,9 @@ void run_di_step(const DiFrame<Sample, S, Reproject, History, Surfaces>& frame,
         queries.trace(bridge.visibility);
         tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t k) {
             Reservoir<Sample>& r = output[pixel];
-            const bool visible = r.has_sample() && (asked[k] == detail::MisAnswers<Sample, S>::none ||
-                                                    queries.visible[asked[k]]);
+            const bool visible =
+                r.has_sample() &&
+                (asked[k] == detail::MisAnswers<Sample, S>::none || queries.visible[asked[k]]);
             if (carries_visibility(frame.params.visibility))
                 apply_visibility(r, visible);
             shade(pixel, static_cast<const Reservoir<Sample>&>(r), visible);

@@ -76,8 +76,9 @@ RESTIR_HOST_DEVICE inline const NeighbourOffsets& default_neighbour_offsets() no
 /// Renamed `NeighbourOffsets`.
 using NeighborOffsets [[deprecated("use restir::NeighbourOffsets")]] = NeighbourOffsets;
 /// Renamed `neighbour_offset_count`.
-[[deprecated("use restir::neighbour_offset_count")]] inline constexpr std::uint32_t
-    neighbor_offset_count = neighbour_offset_count;
+[[deprecated(
+    "use restir::neighbour_offset_count")]] inline constexpr std::uint32_t neighbor_offset_count =
+    neighbour_offset_count;
 /// Renamed `make_neighbour_offsets`.
 [[deprecated("use restir::make_neighbour_offsets")]] RESTIR_HOST_DEVICE constexpr NeighbourOffsets
 make_neighbor_offsets() noexcept {

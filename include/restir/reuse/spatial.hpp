@@ -83,7 +83,7 @@ RESTIR_HOST_DEVICE constexpr PixelCoord spatial_neighbour(PixelCoord pixel, std:
 /// (cos, sin) of the angle 2 pi u, u taken modulo 1 (a non-finite u counts as 0), within
 /// 2e-7 of the exact values: a quarter turn from the two highest bits of 4u, and the Taylor
 /// polynomials of degree 12 and 11 on [0, pi/2) (truncation below 6e-8). No large-argument
-/// reduction, which on a GPU kept a 32-byte array in local memory in every spatial kernel.
+/// reduction, whose table a GPU would keep in local memory.
 RESTIR_HOST_DEVICE inline DiskOffset neighbour_rotation(float u) noexcept {
     float turn = is_finite(u) ? u - std::floor(u) : 0.0f;
     turn = turn < 1.0f ? turn : 0.0f; // u - floor(u) rounds to 1 for tiny negative u

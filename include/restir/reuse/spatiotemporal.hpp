@@ -85,7 +85,7 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
 template <class Sample, Surface S, Reprojection Reproject, class Target, class Visibility,
           class MaterialTest, UniformRng Rng>
 requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
-    [[deprecated("pass ReuseParams and the frame index after SpatialParams")]] RESTIR_HOST_DEVICE
+[[deprecated("pass ReuseParams and the frame index after SpatialParams")]] RESTIR_HOST_DEVICE
     Reservoir<Sample>
     spatiotemporal_resample(PixelCoord pixel, const Reservoir<Sample>& current, const S& surface,
                             ImageView<const Reservoir<Sample>> previous_reservoirs,
@@ -93,9 +93,9 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
                             const TemporalParams& temporal, const SpatialParams& spatial,
                             const NeighbourOffsets& offsets,
                             const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng) {
-    return spatiotemporal_resample(pixel, current, surface, previous_reservoirs,
-                                   previous_surfaces, reproject, temporal, spatial, ReuseParams{},
-                                   0u, bridge, rng, offsets);
+    return spatiotemporal_resample(pixel, current, surface, previous_reservoirs, previous_surfaces,
+                                   reproject, temporal, spatial, ReuseParams{}, 0u, bridge, rng,
+                                   offsets);
 }
 
 /// The fused pass as it was between 0.1 and 0.2, with the neighbour search in a
@@ -104,7 +104,7 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
 template <class Sample, Surface S, Reprojection Reproject, class Target, class Visibility,
           class MaterialTest, UniformRng Rng>
 requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
-    [[deprecated("pass SpatialParams, ReuseParams and the frame index")]] RESTIR_HOST_DEVICE
+[[deprecated("pass SpatialParams, ReuseParams and the frame index")]] RESTIR_HOST_DEVICE
     Reservoir<Sample>
     spatiotemporal_resample(PixelCoord pixel, const Reservoir<Sample>& current, const S& surface,
                             ImageView<const Reservoir<Sample>> previous_reservoirs,
@@ -116,9 +116,9 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
     SpatialParams spatial;
     spatial.neighbour_count = search.neighbour_count;
     spatial.radius = search.radius;
-    return spatiotemporal_resample(pixel, current, surface, previous_reservoirs,
-                                   previous_surfaces, reproject, temporal, spatial, reuse,
-                                   frame_index, bridge, rng, offsets);
+    return spatiotemporal_resample(pixel, current, surface, previous_reservoirs, previous_surfaces,
+                                   reproject, temporal, spatial, reuse, frame_index, bridge, rng,
+                                   offsets);
 }
 
 } // namespace restir

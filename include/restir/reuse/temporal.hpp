@@ -96,8 +96,8 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
         return current;
     return combine_inputs(
         current, surface,
-        detail::SingleReuseInput<Sample, S>{input, history_cap(current.candidate_count, params)}, reuse,
-        bridge, rng);
+        detail::SingleReuseInput<Sample, S>{input, history_cap(current.candidate_count, params)},
+        reuse, bridge, rng);
 }
 
 /// Temporal resampling of one pixel. `current` is the pixel's finalised reservoir for this
@@ -117,12 +117,11 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
                       const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng) {
     if (!is_valid_surface(surface))
         return current;
-    return temporal_combine(
-        current, surface,
-        reusable_input(history_pixel(reproject(pixel), params, frame_index), surface,
-                       previous_reservoirs, previous_surfaces, params.similarity,
-                       bridge.material_test),
-        params, reuse, bridge, rng);
+    return temporal_combine(current, surface,
+                            reusable_input(history_pixel(reproject(pixel), params, frame_index),
+                                           surface, previous_reservoirs, previous_surfaces,
+                                           params.similarity, bridge.material_test),
+                            params, reuse, bridge, rng);
 }
 
 } // namespace restir
