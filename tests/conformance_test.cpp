@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 namespace {
@@ -177,6 +178,14 @@ TEST(Conformance, ReusePassesInstantiateWithStubTypes) {
     const auto scaled =
         restir::LightVisibility<stub::LightSet, stub::RayQuery>::for_scene(lights, query, 550.0f);
     EXPECT_FLOAT_EQ(scaled.ray_offset, 0.055f);
+    // Neither visibility adapter can be built without a ray offset (it would be 0).
+    static_assert(!std::is_constructible_v<restir::LightVisibility<stub::LightSet, stub::RayQuery>,
+                                           const stub::LightSet*, const stub::RayQuery*>);
+    static_assert(!std::is_constructible_v<restir::LightPointVisibility<stub::RayQuery>,
+                                           const stub::RayQuery*>);
+    const auto point_scaled =
+        restir::LightPointVisibility<stub::RayQuery>::for_scene(query, 550.0f);
+    EXPECT_FLOAT_EQ(point_scaled.ray_offset, 0.055f);
 }
 
 // The frame recipe per pixel and per tile with batched rays, every stage and mode compiled.

@@ -123,12 +123,26 @@ RESTIR_HOST_DEVICE inline glm::vec3 unshadowed_irradiance(const LightPointSample
 /// end stays). Holds a pointer: the query must outlive it.
 ///
 /// The ray offset has no default, as `LightVisibility`'s: a world-space length that must be
-/// scaled to the scene (1e-4 of the diagonal of its bounding box is the usual choice), positive
-/// and finite. Always state it: `{&query, offset}` (left out, it would be 0).
+/// scaled to the scene (`for_scene`: 1e-4 of the diagonal of its bounding box), positive and
+/// finite (a debug build checks). `{&query}` without it does not compile.
 template <RayQuery Query>
 struct LightPointVisibility {
-    const Query* query = nullptr;
-    float ray_offset; ///< World-space, > 0: 1e-4 of the scene's extent, say.
+    /// The offset `for_scene` takes, relative to the scene's extent.
+    static constexpr float relative_ray_offset = 1e-4f;
+
+    const Query* query;
+    float ray_offset; ///< World-space, > 0.
+
+    RESTIR_HOST_DEVICE constexpr LightPointVisibility(const Query* ray_query, float offset) noexcept
+        : query(ray_query), ray_offset(offset) {
+        RESTIR_ASSERT(offset > 0.0f && is_finite(offset));
+    }
+    /// The offset scaled to the scene: `relative_ray_offset` times `scene_extent` (the
+    /// diagonal of the scene's bounding box, in world units).
+    RESTIR_HOST_DEVICE static constexpr LightPointVisibility
+    for_scene(const Query& ray_query, float scene_extent) noexcept {
+        return {&ray_query, relative_ray_offset * scene_extent};
+    }
 
     /// The segment that `operator()` tests, for renderers that trace many at once (packets).
     template <Surface S>
