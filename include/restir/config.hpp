@@ -27,6 +27,16 @@
 #define RESTIR_UNROLL
 #endif
 
+/// Inlines a small function into its callers where the optimiser's own choice measured slower
+/// (a call in a loop of independent memory loads serialises them).
+#if defined(__CUDACC__)
+#define RESTIR_FORCE_INLINE __forceinline__
+#elif defined(__GNUC__) || defined(__clang__)
+#define RESTIR_FORCE_INLINE inline __attribute__((always_inline))
+#else
+#define RESTIR_FORCE_INLINE inline
+#endif
+
 /// Asks for the cache line at `address` ahead of a load that is known early but needed later
 /// (host code compiled by GCC or Clang; nothing elsewhere).
 #if (defined(__GNUC__) || defined(__clang__)) && !defined(__CUDA_ARCH__)

@@ -81,8 +81,6 @@ struct ReuseParams {
     ReuseVisibility visibility = ReuseVisibility::traced;
 };
 
-/// Largest number of reservoirs one reuse step combines (the canonical one included).
-inline constexpr std::uint32_t max_reuse_inputs = 16u;
 
 /// The functions reuse evaluates: the target p-hat(sample, surface), the visibility of a
 /// sample from a surface, and the material hook of the similarity test.

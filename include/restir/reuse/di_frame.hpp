@@ -301,7 +301,7 @@ requires(std::same_as<History, ImageView<const Reservoir<Sample>>> ||
             auto rng = rng_for(pixel, RngStream::spatial + step.pass);
             Reservoir<Sample> r = input[pixel];
             if (combines_at(pixel))
-                r = spatial(pixel, input, neighbours(pixel, input, bridge, rng), bridge, rng);
+                r = spatial_here(pixel, input, bridge, rng);
             retest_immediately(step, pixel, r, input[pixel], bridge.visibility);
             output[pixel] = r;
         } else if constexpr (Stage == DiStage::boiling) {
@@ -413,6 +413,24 @@ requires(std::same_as<History, ImageView<const Reservoir<Sample>>> ||
     }
 
 private:
+    // A spatial pass's combination at `pixel`: on a GPU over the streamed neighbours (kept in
+    // registers), in host code over those that lend, gathered as they are found.
+    template <class Bridge, UniformRng Rng>
+    RESTIR_HOST_DEVICE Reservoir<Sample> spatial_here(PixelCoord pixel,
+                                                      ImageView<const Reservoir<Sample>> input,
+                                                      const Bridge& bridge, Rng& rng) const {
+#if !defined(__CUDA_ARCH__)
+        if constexpr (surfaces_in_array<Surfaces, S>) {
+            detail::GatheredInputs<Sample, S> gathered;
+            gathered.count = 0u;
+            neighbours(pixel, input, bridge, rng,
+                       [&](PixelCoord p) { gathered.add(&input[p], &surfaces[p]); });
+            return spatial(pixel, input, gathered, bridge, rng);
+        }
+#endif
+        return spatial(pixel, input, neighbours(pixel, input, bridge, rng), bridge, rng);
+    }
+
     using LoadedInput = detail::LoadedHistoryInput<Sample, S, history_has_surfaces>;
 
     RESTIR_HOST_DEVICE constexpr std::uint32_t writer_count() const noexcept {

@@ -100,26 +100,6 @@ struct TileQueries {
     }
 };
 
-/// The inputs of a spatial pass that lend, gathered once in order: a `ReuseInputs` set whose
-/// entries all take part (`packed`). Entries past `count` stay uninitialised (zeroing 15 inputs
-/// per pixel is work a pass does not need).
-template <class Sample, class S>
-struct GatheredInputs {
-    static constexpr bool packed = true;
-    const Reservoir<Sample>* reservoirs[max_reuse_inputs - 1u];
-    const S* surfaces[max_reuse_inputs - 1u];
-    std::uint32_t count;
-
-    void add(const Reservoir<Sample>* reservoir, const S* surface) {
-        if (count + 1u < max_reuse_inputs && reservoir->is_well_formed()) {
-            reservoirs[count] = reservoir;
-            surfaces[count++] = surface;
-        }
-    }
-    std::uint32_t size() const { return count; }
-    ReuseInput<Sample, S> operator[](std::uint32_t i) const { return {reservoirs[i], surfaces[i]}; }
-};
-
 /// The MIS terms of one pixel traced ahead: p-hat of its own (canonical) sample at each input's
 /// surface, and whether it is visible there (asked only where p-hat > 0).
 template <class Sample, class S>

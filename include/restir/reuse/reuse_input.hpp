@@ -59,6 +59,9 @@ lent_surface(const DecodedReuseInput<Sample, SurfaceT>& input) noexcept {
     return input.surface;
 }
 
+/// Largest number of reservoirs one reuse step combines (the canonical one included).
+inline constexpr std::uint32_t max_reuse_inputs = 16u;
+
 /// No cap on the M an input lends.
 inline constexpr std::uint32_t no_candidate_cap = 0xffffffffu;
 
@@ -100,6 +103,31 @@ struct SingleReuseInput {
     }
 };
 
+/// The inputs of a spatial pass that lend, gathered once in order as they are found (host code): a
+/// `ReuseInputs` set whose entries all take part (`packed`). Entries past `count` stay
+/// uninitialised (zeroing 15 inputs per pixel is work a pass does not need).
+template <class Sample, class S>
+struct GatheredInputs {
+    static constexpr bool packed = true;
+    const Reservoir<Sample>* reservoirs[max_reuse_inputs - 1u];
+    const S* surfaces[max_reuse_inputs - 1u];
+    std::uint32_t count;
+
+    /// Adds an input that lends (`lends_reservoir`: well-formed, similar); beyond
+    /// max_reuse_inputs - 1 inputs, none.
+    RESTIR_HOST_DEVICE void add(const Reservoir<Sample>* reservoir, const S* surface) {
+        RESTIR_ASSERT(reservoir->is_well_formed());
+        if (count + 1u < max_reuse_inputs) {
+            reservoirs[count] = reservoir;
+            surfaces[count++] = surface;
+        }
+    }
+    RESTIR_HOST_DEVICE std::uint32_t size() const { return count; }
+    RESTIR_HOST_DEVICE ReuseInput<Sample, S> operator[](std::uint32_t i) const {
+        return {reservoirs[i], surfaces[i]};
+    }
+};
+
 } // namespace detail
 
 /// The one-input set's name before 0.2, when it was public.
@@ -111,7 +139,7 @@ using SingleReuseInput [[deprecated("pass a ReuseInputSpan of one input")]] =
 /// reservoir is finite and the surfaces are similar; `surfaces` an `ImageView` or a
 /// `SurfaceDecoder`.
 template <class Sample, Surface S, class Surfaces, class MaterialTest>
-requires SurfaceSource<Surfaces, S> RESTIR_HOST_DEVICE bool
+requires SurfaceSource<Surfaces, S> RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE bool
 lends_reservoir(PixelCoord p, const S& receiver, ImageView<const Reservoir<Sample>> reservoirs,
                 const Surfaces& surfaces, const SimilarityParams& similarity,
                 const MaterialTest& material_test) {

@@ -216,10 +216,21 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
     const S& surface = surfaces[pixel];
     if (!is_valid_surface(surface))
         return own;
+#if defined(__CUDA_ARCH__)
+    // Streamed: the set stays in registers.
     return combine_inputs(own, surface,
                           find_spatial_neighbours(pixel, surface, reservoirs, surfaces, params,
                                                   offsets, bridge.material_test, rng),
                           reuse, bridge, rng);
+#else
+    // Gathered as they are found: no neighbour is computed twice.
+    detail::GatheredInputs<Sample, S> gathered;
+    gathered.count = 0u;
+    find_spatial_neighbours(pixel, surface, reservoirs, surfaces, params, offsets,
+                            bridge.material_test, rng,
+                            [&](PixelCoord p) { gathered.add(&reservoirs[p], &surfaces[p]); });
+    return combine_inputs(own, surface, gathered, reuse, bridge, rng);
+#endif
 }
 
 } // namespace restir
