@@ -35,11 +35,14 @@ public:
                                         const GSurface& s, restir::Pcg32& rng) const = 0;
 
     /// body(block) for every pixel block, the blocks that draw from one light tile together,
-    /// so that each tile is read from memory once.
+    /// so that each tile is read from memory once (sources without block tiles: in squares, as
+    /// every other stage).
     template <class BlockBody>
     void for_each_block_in_draw_order(const PixelBlocks& blocks, std::uint32_t frame_index,
                                       BlockBody&& body) const {
         const restir::LightTileArrays& tiles = block_tiles();
+        if (tiles.tile_count == 0u)
+            return blocks.for_each_block(body);
         blocks.for_each_block_by_tile(
             light_tile_count, [&](std::uint32_t b) { return tiles.tile_for(b, frame_index); },
             body);
