@@ -81,7 +81,6 @@ struct ReuseParams {
     ReuseVisibility visibility = ReuseVisibility::traced;
 };
 
-
 /// The functions reuse evaluates: the target p-hat(sample, surface), the visibility of a
 /// sample from a surface, and the material hook of the similarity test.
 template <class Target, class Visibility, class MaterialTest = AnyMaterial>
