@@ -27,6 +27,23 @@ void GBuffer::trace(const Camera& camera, std::uint32_t frame_index) {
         [&](const PixelBlock& block) { trace_primary(block, camera, frame_index); });
 }
 
+void GBuffer::trace_shadows(std::span<const ShadowQuery> queries, std::span<bool> visible) const {
+    std::array<glm::vec3, restir::max_tile_queries> from, to;
+    std::array<std::uint8_t, restir::max_tile_queries> blocked;
+    const std::size_t n = queries.size();
+    const restir::LightPointVisibility<EmbreeScene> visibility = point_visibility();
+    for (std::size_t i = 0; i < n; ++i) {
+        const restir::ShadowSegment segment =
+            visibility.segment(*queries[i].sample, *queries[i].surface);
+        from[i] = segment.from;
+        to[i] = segment.to;
+    }
+    rays_->occluded_segments(std::span(from.data(), n), std::span(to.data(), n),
+                             std::span(blocked.data(), n));
+    for (std::size_t i = 0; i < n; ++i)
+        visible[i] = blocked[i] == 0u;
+}
+
 // A block's primary hits as one packet query.
 void GBuffer::trace_primary(const PixelBlock& block, const Camera& camera,
                             std::uint32_t frame_index) {

@@ -58,6 +58,20 @@ public:
         return {rays_, ray_offset_};
     }
 
+    /// A shadow-ray question: is a light point visible from a surface (the frame recipe's form).
+    using ShadowQuery = restir::VisibilityQuery<restir::LightPointSample, GSurface>;
+    /// Answers `queries` as Embree packets (at most restir::max_tile_queries of them):
+    /// `visible[i]` for `queries[i]`, each segment off its surface by `ray_offset`.
+    void trace_shadows(std::span<const ShadowQuery> queries, std::span<bool> visible) const;
+    /// The G-buffer's shadow rays as the recipe's `BatchVisibility`.
+    struct ShadowPackets {
+        const GBuffer* gbuffer = nullptr;
+        void trace(std::span<const ShadowQuery> queries, std::span<bool> visible) const {
+            gbuffer->trace_shadows(queries, visible);
+        }
+    };
+    ShadowPackets shadow_packets() const { return {this}; }
+
     /// Visibility reuse for a block: every pixel's reservoir (`reservoir(i)`) whose sample is
     /// occluded from its surface gets W = 0, the shadow rays traced as one packet query;
     /// pixels for which `needs_test(i)` is false (their sample is known to be visible) are
@@ -65,24 +79,20 @@ public:
     template <class ReservoirAt, class NeedsTest>
     void test_visibility(const PixelBlock& block, ReservoirAt&& reservoir,
                          NeedsTest&& needs_test) const {
-        std::array<glm::vec3, pixels_per_block> from, to;
+        std::array<ShadowQuery, pixels_per_block> queries;
         std::array<std::uint32_t, pixels_per_block> pixel;
-        std::array<std::uint8_t, pixels_per_block> blocked;
+        std::array<bool, pixels_per_block> visible;
         std::size_t n = 0;
-        const restir::LightPointVisibility<EmbreeScene> visibility = point_visibility();
         blocks_->for_each_pixel_of(block, [&](std::uint32_t, std::uint32_t, std::uint32_t i) {
             const auto& res = reservoir(i);
             if (!surfaces_[i].valid || !res.has_sample() || !needs_test(i))
                 return;
-            const restir::ShadowSegment segment = visibility.segment(res.sample, surfaces_[i]);
-            from[n] = segment.from;
-            to[n] = segment.to;
+            queries[n] = {&res.sample, &surfaces_[i]};
             pixel[n++] = i;
         });
-        rays_->occluded_segments(std::span(from.data(), n), std::span(to.data(), n),
-                                 std::span(blocked.data(), n));
+        trace_shadows(std::span(queries.data(), n), std::span(visible.data(), n));
         for (std::size_t k = 0; k < n; ++k)
-            restir::apply_visibility(reservoir(pixel[k]), blocked[k] == 0u);
+            restir::apply_visibility(reservoir(pixel[k]), visible[k]);
     }
     /// test_visibility for every pixel of the block.
     template <class ReservoirAt>

@@ -4,36 +4,12 @@
 #include "timing.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <span>
 #include <utility>
 #include <vector>
 
 namespace pt {
-
-// Shadow rays of the recipe's questions, traced as one Embree packet query per batch.
-struct PacketTracer {
-    const EmbreeScene* rays = nullptr;
-    restir::LightPointVisibility<EmbreeScene> visibility;
-
-    void trace(std::span<const restir::VisibilityQuery<restir::LightPointSample, GSurface>> queries,
-               std::span<bool> visible) const {
-        std::array<glm::vec3, restir::max_tile_queries> from, to;
-        std::array<std::uint8_t, restir::max_tile_queries> blocked;
-        const std::size_t n = queries.size();
-        for (std::size_t i = 0; i < n; ++i) {
-            const restir::ShadowSegment segment =
-                visibility.segment(*queries[i].sample, *queries[i].surface);
-            from[i] = segment.from;
-            to[i] = segment.to;
-        }
-        rays->occluded_segments(std::span(from.data(), n), std::span(to.data(), n),
-                                std::span(blocked.data(), n));
-        for (std::size_t i = 0; i < n; ++i)
-            visible[i] = blocked[i] == 0u;
-    }
-};
 
 // The recipe's frame over the renderer's buffers: the reservoirs of this frame and the last,
 // the reprojection, and what the recipe calls back (candidates, shading).
@@ -205,7 +181,7 @@ struct RestirDi::Stages {
         };
         const restir::ReuseBridge bridge{
             [](const restir::LightPointSample& x, const GSurface& s) { return point_target(x, s); },
-            PacketTracer{&gbuffer.rays(), gbuffer.point_visibility()}};
+            gbuffer.shadow_packets()};
         restir::run_di_frame(f, buffers, timed_tiles(f.frame_index, t), initial, bridge, rng_for,
                              shade);
     }

@@ -178,8 +178,9 @@ struct TileReuse {
         const std::uint32_t slots = inputs.size();
         for (std::uint32_t i = 0; i < slots && a.count + 1u < max_reuse_inputs; ++i) {
             const auto input = lent_input<Sample, S>(inputs[i]);
-            if (input.reservoir == nullptr || !input.reservoir->is_well_formed())
-                continue;
+            if constexpr (!packed_inputs<Inputs>) // a packed set holds lending inputs only
+                if (input.reservoir == nullptr || !input.reservoir->is_well_formed())
+                    continue;
             const S& there = lent_surface(input);
             const float t = static_cast<float>(bridge.target(canonical.sample, there));
             a.surfaces[a.count] = &there;
