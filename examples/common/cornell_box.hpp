@@ -1,6 +1,6 @@
 // The Cornell box as plain data, shared by restir-render (examples/pathtracer/scene_cornell.cpp)
-// and the CUDA benchmark (benchmarks/cuda/analytic_scene.hpp): the published vertex coordinates of the
-// room, the light and the two blocks (millimetres, y up), the four materials' albedo and
+// and the CUDA benchmark (benchmarks/cuda/analytic_scene.hpp): the published vertex coordinates of
+// the room, the light and the two blocks (millimetres, y up), the four materials' albedo and
 // emission, and the camera. Arrays of floats only (no GLM, Embree or TBB); `box()` is
 // constexpr and callable from device code, so a kernel can read a value at compile time
 // (`constexpr cornell::Box b = cornell::box();`) or by material (`cornell::material(m)`).
