@@ -16,6 +16,7 @@
 #include "restir/light/light_bvh_view.hpp"
 #include "restir/light/light_point_sample.hpp"
 #include "restir/light/light_sample.hpp"
+#include "restir/light/receiver.hpp"
 #include "restir/light/shadow_segment.hpp"
 #include "restir/reuse/bias_correction.hpp"
 #include "restir/reuse/boiling_filter.hpp"

@@ -11,12 +11,14 @@
 #include "restir/light/falloff.hpp"
 #include "restir/light/irradiance.hpp"
 #include "restir/light/light_sample.hpp"
+#include "restir/light/receiver.hpp"
 #include "restir/light/shadow_segment.hpp"
 
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
 #include <cmath>
+#include <concepts>
 #include <cstdint>
 #include <type_traits>
 
@@ -44,6 +46,26 @@ RESTIR_HOST_DEVICE inline float folded_irradiance_factor(float x, float y, float
     const float e = max_of(d2, min_distance_squared);
     const float r2 = yuksel_radius_squared;
     const float factor = 2.0f * receiver * emitter / (d2 * (e + r2 + std::sqrt(e * (e + r2))));
+    return is_valid_weight(factor) ? factor : 0.0f;
+}
+
+/// Light arriving from a light point per unit intensity, before the receiver reflects it: the
+/// emitter's cosine times the falloff, cos(theta_light) falloff(d) (1/d^2 for area lights), in
+/// the folded form of `folded_irradiance_factor` without its receiver cosine, with the offset
+/// (x, y, z) from the receiver to the light and `inverse_distance` = 1/|x| (0 for a light at the
+/// receiver). Times the receiver's f(wo, wi) max(0, n.wi) at wi = x / |x| and the intensity, it
+/// is the unshadowed outgoing radiance. Plain float arithmetic, for vectorised loops.
+RESTIR_HOST_DEVICE inline float folded_arrival_factor(float x, float y, float z, float nx, float ny,
+                                                      float nz, float isotropic,
+                                                      float yuksel_radius_squared,
+                                                      float min_distance_squared,
+                                                      float inverse_distance) {
+    const float d2 = x * x + y * y + z * z;
+    // max(0, -n_l.x) = d cos(theta_light); d for an isotropic light (cos 1).
+    const float emitter = max_of(0.0f, -(nx * x + ny * y + nz * z)) + isotropic * std::sqrt(d2);
+    const float e = max_of(d2, min_distance_squared);
+    const float r2 = yuksel_radius_squared;
+    const float factor = 2.0f * emitter * inverse_distance / (e + r2 + std::sqrt(e * (e + r2)));
     return is_valid_weight(factor) ? factor : 0.0f;
 }
 
@@ -115,6 +137,27 @@ RESTIR_HOST_DEVICE inline glm::vec3 unshadowed_irradiance(const LightPointSample
                                                   s.normal.z, isotropic ? 1.0f : 0.0f,
                                                   max_of(s.falloff, 0.0f),
                                                   max_of(-s.falloff, 0.0f));
+}
+
+/// Unshadowed radiance that `receiver` reflects towards its viewer from the sample's point:
+/// intensity cos(theta_light) falloff(d) f(wo, wi) max(0, n.wi) (for an area light, with the
+/// 1 / area_pdf that the sample's intensity carries). A `LambertianReceiver` takes the folded
+/// irradiance formula, albedo / pi `unshadowed_irradiance`, as diffuse targets always have.
+template <Receiver R>
+RESTIR_HOST_DEVICE glm::vec3 unshadowed_radiance(const LightPointSample& s, const R& receiver) {
+    if constexpr (std::same_as<R, LambertianReceiver>) {
+        return receiver.albedo * inv_pi *
+               unshadowed_irradiance(s, receiver.position, receiver.normal);
+    } else {
+        const glm::vec3 x = s.position - glm::vec3(receiver.position);
+        const float d2 = glm::dot(x, x);
+        const float inverse_distance = d2 > 0.0f ? 1.0f / std::sqrt(d2) : 0.0f;
+        const bool isotropic = s.normal.x == 0.0f && s.normal.y == 0.0f && s.normal.z == 0.0f;
+        const float factor = folded_arrival_factor(
+            x.x, x.y, x.z, s.normal.x, s.normal.y, s.normal.z, isotropic ? 1.0f : 0.0f,
+            max_of(s.falloff, 0.0f), max_of(-s.falloff, 0.0f), inverse_distance);
+        return s.intensity * glm::vec3(receiver.reflected(x * inverse_distance)) * factor;
+    }
 }
 
 /// `VisibilityFunction` for `LightPointSample`s, without a light lookup: the segment that

@@ -13,11 +13,14 @@
 #include "restir/light/irradiance.hpp"
 #include "restir/light/light_point_sample.hpp"
 #include "restir/light/light_sample.hpp"
+#include "restir/light/receiver.hpp"
 #include "restir/sampling/light_tiles.hpp"
 #include "restir/sampling/ris_batch.hpp"
 
 #include <glm/vec3.hpp>
 
+#include <cmath>
+#include <concepts>
 #include <cstdint>
 
 namespace restir {
@@ -146,21 +149,35 @@ RESTIR_HOST_DEVICE float tile_entry_target(const Value& value, glm::vec3 positio
     const float v = intensity * factor;
     return is_valid_weight(v) ? v : 0.0f;
 }
-} // namespace detail
 
-/// Target values of the `Size` consecutive entries [first, first + Size) of tile `tile` at a
-/// receiver (`position`, `normal`): p-hat_i = fold_channels<Norm>(channel_weights * E_i), E_i
-/// the unshadowed irradiance (`folded_irradiance_factor` times the entry's intensity;
-/// channel_weights = albedo / pi gives a diffuse receiver's reflected radiance; with
-/// ChannelNorm::sum, dot(channel_weights, E_i)). `Size` and `first` are multiples of
-/// `tile_group_size`. Fills `block` and returns the global entry index of its lane 0, as
-/// `resample_ris_batch` expects. In device code `tiles.planes` must be 16-byte aligned (as
-/// cudaMalloc's memory is): each plane's lanes are read as 16-byte loads.
-template <std::uint32_t Size, ChannelNorm Norm = ChannelNorm::sum>
+/// p-hat of one tile entry at any receiver: its unshadowed radiance, folded.
+template <ChannelNorm Norm, class Value, class R>
+RESTIR_HOST_DEVICE float tile_entry_radiance_target(const Value& value, glm::vec3 position,
+                                                    const R& receiver) {
+    const float x = value(TilePlane::position_x) - position.x;
+    const float y = value(TilePlane::position_y) - position.y;
+    const float z = value(TilePlane::position_z) - position.z;
+    const float d2 = x * x + y * y + z * z;
+    const float inverse_distance = d2 > 0.0f ? 1.0f / std::sqrt(d2) : 0.0f;
+    const float factor = folded_arrival_factor(
+        x, y, z, value(TilePlane::normal_x), value(TilePlane::normal_y), value(TilePlane::normal_z),
+        value(TilePlane::isotropic), value(TilePlane::yuksel_radius_squared),
+        value(TilePlane::min_distance_squared), inverse_distance);
+    const glm::vec3 wi{x * inverse_distance, y * inverse_distance, z * inverse_distance};
+    const glm::vec3 f = receiver.reflected(wi);
+    const float v =
+        fold_channels<Norm>({f.x * value(TilePlane::radiance_r), f.y * value(TilePlane::radiance_g),
+                             f.z * value(TilePlane::radiance_b)}) *
+        factor;
+    return is_valid_weight(v) ? v : 0.0f;
+}
+
+/// The loop of `evaluate_tile_block`: `lane_target(value)` is p-hat of the entry whose plane
+/// values `value(TilePlane)` reads.
+template <std::uint32_t Size, class LaneTarget>
 RESTIR_HOST_DEVICE std::uint32_t
-evaluate_tile_block(const LightTileArrays& tiles, std::uint32_t tile, std::uint32_t first,
-                    glm::vec3 position, glm::vec3 normal, glm::vec3 channel_weights,
-                    CandidateBlock<Size>& block) {
+evaluate_tile_block_with(const LightTileArrays& tiles, std::uint32_t tile, std::uint32_t first,
+                         CandidateBlock<Size>& block, const LaneTarget& lane_target) {
     static_assert(Size % tile_group_size == 0u, "blocks cover whole groups of tile entries");
     RESTIR_ASSERT(tile < tiles.tile_count && first + Size <= tiles.tile_size &&
                   first % tile_group_size == 0u);
@@ -185,8 +202,7 @@ evaluate_tile_block(const LightTileArrays& tiles, std::uint32_t tile, std::uint3
                     const float4& v = values[static_cast<std::uint32_t>(k)];
                     return j == 0u ? v.x : j == 1u ? v.y : j == 2u ? v.z : v.w;
                 };
-                block.target[group * lanes + quad + j] =
-                    detail::tile_entry_target<Norm>(value, position, normal, channel_weights);
+                block.target[group * lanes + quad + j] = lane_target(value);
                 block.inverse_pdf[group * lanes + quad + j] = value(TilePlane::inverse_pdf);
             }
         }
@@ -200,7 +216,7 @@ evaluate_tile_block(const LightTileArrays& tiles, std::uint32_t tile, std::uint3
             const auto value = [&](TilePlane k) {
                 return planes[static_cast<std::uint32_t>(k) * lanes + i];
             };
-            target[i] = detail::tile_entry_target<Norm>(value, position, normal, channel_weights);
+            target[i] = lane_target(value);
             weight_scale[i] = value(TilePlane::inverse_pdf);
         }
         for (std::uint32_t i = 0; i < lanes; ++i) {
@@ -210,6 +226,46 @@ evaluate_tile_block(const LightTileArrays& tiles, std::uint32_t tile, std::uint3
 #endif
     }
     return base;
+}
+
+} // namespace detail
+
+/// Target values of the `Size` consecutive entries [first, first + Size) of tile `tile` at a
+/// receiver (`position`, `normal`): p-hat_i = fold_channels<Norm>(channel_weights * E_i), E_i
+/// the unshadowed irradiance (`folded_irradiance_factor` times the entry's intensity;
+/// channel_weights = albedo / pi gives a diffuse receiver's reflected radiance; with
+/// ChannelNorm::sum, dot(channel_weights, E_i)). `Size` and `first` are multiples of
+/// `tile_group_size`. Fills `block` and returns the global entry index of its lane 0, as
+/// `resample_ris_batch` expects. In device code `tiles.planes` must be 16-byte aligned (as
+/// cudaMalloc's memory is): each plane's lanes are read as 16-byte loads.
+template <std::uint32_t Size, ChannelNorm Norm = ChannelNorm::sum>
+RESTIR_HOST_DEVICE std::uint32_t
+evaluate_tile_block(const LightTileArrays& tiles, std::uint32_t tile, std::uint32_t first,
+                    glm::vec3 position, glm::vec3 normal, glm::vec3 channel_weights,
+                    CandidateBlock<Size>& block) {
+    return detail::evaluate_tile_block_with(tiles, tile, first, block, [&](const auto& value) {
+        return detail::tile_entry_target<Norm>(value, position, normal, channel_weights);
+    });
+}
+
+/// The same at any `Receiver`: p-hat_i = fold_channels<Norm>(E_i cos(theta_light) falloff
+/// f(wo, wi) max(0, n.wi)), the entry's unshadowed radiance towards the receiver's viewer
+/// (`unshadowed_radiance`). A `LambertianReceiver` takes the folded diffuse form above; any
+/// other calls `receiver.reflected(wi)` once per lane inside the loop, which stays one
+/// vectorised loop when `reflected` has no branches.
+template <std::uint32_t Size, ChannelNorm Norm = ChannelNorm::sum, Receiver R>
+RESTIR_HOST_DEVICE std::uint32_t
+evaluate_tile_block(const LightTileArrays& tiles, std::uint32_t tile, std::uint32_t first,
+                    const R& receiver, CandidateBlock<Size>& block) {
+    if constexpr (std::same_as<R, LambertianReceiver>) {
+        return evaluate_tile_block<Size, Norm>(tiles, tile, first, receiver.position,
+                                               receiver.normal, receiver.albedo * inv_pi, block);
+    } else {
+        const glm::vec3 position = receiver.position;
+        return detail::evaluate_tile_block_with(tiles, tile, first, block, [&](const auto& value) {
+            return detail::tile_entry_radiance_target<Norm>(value, position, receiver);
+        });
+    }
 }
 
 } // namespace restir

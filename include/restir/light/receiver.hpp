@@ -1,0 +1,46 @@
+/// @file light/receiver.hpp
+/// Where light arrives and how much of it leaves towards the viewer: the receiver that target
+/// functions, batch RIS and shading evaluate, so that p-hat is the full unshadowed contribution
+/// f(wo, wi) Le G for whatever BSDF the application brings.
+#pragma once
+
+#include "restir/config.hpp"
+#include "restir/core/math.hpp"
+
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
+
+#include <concepts>
+
+namespace restir {
+
+/// A receiving surface point and its BSDF, seen from one outgoing direction. Required
+/// expressions, for `const R r` and a unit direction `wi` from the receiver towards a light:
+///   `r.position`       -> glm::vec3, the world-space position;
+///   `r.reflected(wi)`  -> glm::vec3, f(wo, wi) max(0, n.wi): the BSDF towards the viewer times
+///                         the cosine at the receiver, per colour channel (0 below the surface).
+/// The batch target loop (`evaluate_tile_block`) calls `reflected` once per candidate in a
+/// plain loop: written without branches, it vectorises with the loop.
+template <class R>
+concept Receiver = requires(const R& r, glm::vec3 wi) {
+    { r.position } -> std::convertible_to<glm::vec3>;
+    { r.reflected(wi) } -> std::convertible_to<glm::vec3>;
+};
+
+/// A Lambertian receiver: f = albedo / pi. The default receiver, and the fast one: the library
+/// evaluates it through the folded irradiance formulas (`unshadowed_irradiance`), exactly as a
+/// diffuse surface's p-hat was computed before receivers existed.
+struct LambertianReceiver {
+    glm::vec3 position{0.0f};
+    glm::vec3 normal{0.0f, 0.0f, 1.0f}; ///< Unit; the side light is gathered on.
+    glm::vec3 albedo{0.0f};
+
+    /// albedo / pi max(0, n.wi).
+    RESTIR_HOST_DEVICE glm::vec3 reflected(glm::vec3 wi) const noexcept {
+        return albedo * (inv_pi * max_of(0.0f, glm::dot(normal, wi)));
+    }
+};
+
+static_assert(Receiver<LambertianReceiver>);
+
+} // namespace restir
