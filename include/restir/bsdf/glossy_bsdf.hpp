@@ -57,12 +57,13 @@ RESTIR_HOST_DEVICE inline float glossy_channel(bool above, float albedo, float d
 /// sin^2 comes from |n x H|^2 rather than from 1 - cos^2: near the normal the latter cancels
 /// to a few ulps and would lose a narrow lobe. Branchless (selects only), three square roots
 /// (two Smith terms, |H|), no pow; finite for every input, 0 when wo or wi is at or below
-/// the surface and for the degenerate wi = -wo.
-RESTIR_HOST_DEVICE inline glm::vec3 glossy_evaluate_cos(glm::vec3 diffuse_albedo,
-                                                        glm::vec3 specular_f0, float alpha,
-                                                        float cos_o, float cos_i,
-                                                        float half_length2, float half_cross2) {
-    const bool above = cos_o > 0.0f && cos_i > 0.0f;
+/// the surface and for the degenerate wi = -wo. Always inlined: a loop over candidate
+/// directions vectorises only with the body inside it (Clang finds it too large otherwise).
+RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE glm::vec3
+glossy_evaluate_cos(glm::vec3 diffuse_albedo, glm::vec3 specular_f0, float alpha, float cos_o,
+                    float cos_i, float half_length2, float half_cross2) {
+    // `&`, not `&&`: both comparisons unconditionally, no control flow in a loop.
+    const bool above = (cos_o > 0.0f) & (cos_i > 0.0f);
     const float co = max_of(cos_o, 0.0f);
     const float ci = max_of(cos_i, 0.0f);
     // D(h) (Walter et al. 2007, eq. 33), cos^2 = (n.H)^2 / H.H with n.H = co + ci.
@@ -97,7 +98,8 @@ RESTIR_HOST_DEVICE inline glm::vec3 glossy_evaluate_cos(glm::vec3 diffuse_albedo
 /// Walter et al. 2007, eq. 14) = D(h) / (2 (n.wo + root(n.wo))). 0 below the surface.
 RESTIR_HOST_DEVICE inline float glossy_specular_pdf(float alpha, float cos_o, float cos_i,
                                                     float half_length2, float half_cross2) {
-    const bool above = cos_o > 0.0f && cos_i > 0.0f;
+    // `&`, not `&&`: both comparisons unconditionally, no control flow in a loop.
+    const bool above = (cos_o > 0.0f) & (cos_i > 0.0f);
     const float co = max_of(cos_o, 0.0f);
     const float ci = max_of(cos_i, 0.0f);
     const float inv_hh = 1.0f / max_of(half_length2, 1e-30f);
@@ -136,8 +138,9 @@ struct GlossyBsdf {
 
     /// f(wo, wi) * max(0, n.wi): n unit normal, wo unit towards the viewer, wi unit towards the
     /// light, all world space. 0 when wo or wi is below the surface. Branchless, vectorises in
-    /// a loop over wi (see `glossy_evaluate_cos`).
-    RESTIR_HOST_DEVICE glm::vec3 evaluate_cos(glm::vec3 n, glm::vec3 wo, glm::vec3 wi) const {
+    /// a loop over wi (see `glossy_evaluate_cos`); always inlined.
+    RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE glm::vec3 evaluate_cos(glm::vec3 n, glm::vec3 wo,
+                                                                  glm::vec3 wi) const {
         const glm::vec3 h = wo + wi;
         const glm::vec3 n_cross_h = glm::cross(n, h);
         return glossy_evaluate_cos(diffuse_albedo, specular_f0, ggx_alpha(roughness),
@@ -158,7 +161,7 @@ struct GlossyBsdf {
         // The cosine lobe's density as diffuse_direction_pdf writes it: with p = 0 this is
         // that density exactly.
         const float mixed = (1.0f - p) * (max_of(0.0f, cos_i) * inv_pi) + p * specular;
-        return select_float(cos_o > 0.0f && cos_i > 0.0f, mixed, 0.0f);
+        return select_float((cos_o > 0.0f) & (cos_i > 0.0f), mixed, 0.0f);
     }
 
     /// One direction from three uniform numbers in [0,1): u_lobe chooses the lobe, u0 u1 the
