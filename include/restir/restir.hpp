@@ -4,6 +4,10 @@
 
 #include "restir/config.hpp"
 
+#include "restir/bsdf/fresnel.hpp"
+#include "restir/bsdf/ggx.hpp"
+#include "restir/bsdf/glossy_bsdf.hpp"
+#include "restir/bsdf/shading_frame.hpp"
 #include "restir/concepts.hpp"
 #include "restir/core/channels.hpp"
 #include "restir/core/discrete_sample.hpp"

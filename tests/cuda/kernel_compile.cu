@@ -391,6 +391,25 @@ template void launch_recipe<ArrayFreeRecipeFrame, PackAsHistory>(
     const ArrayFreeRecipeFrame&, const glm::vec3*, std::uint32_t,
     restir::DiBuffers<restir::LightSampleRef>, PackAsHistory);
 
+// A glossy (metallic-roughness) surface on the device: the BSDF evaluated with its density
+// over candidate directions in one loop, as batch RIS does, and one sampled direction.
+__global__ void glossy_bsdf_kernel(const glm::vec3* directions, std::uint32_t count, float* out) {
+    const auto i = static_cast<std::uint32_t>(blockIdx.x * blockDim.x + threadIdx.x);
+    restir::Pcg32 rng = restir::make_pixel_rng(i, 0u, restir::RngStream::application);
+    const restir::GlossyBsdf bsdf =
+        restir::GlossyBsdf::from_metallic_roughness(glm::vec3(0.8f, 0.5f, 0.2f), 0.3f, 0.4f);
+    const glm::vec3 normal(0.0f, 1.0f, 0.0f);
+    const glm::vec3 wo = glm::normalize(glm::vec3(0.3f, 1.0f, 0.1f));
+    float sum = 0.0f;
+    for (std::uint32_t k = 0; k < count; ++k)
+        sum += bsdf.evaluate_cos(normal, wo, directions[k]).y + bsdf.pdf(normal, wo, directions[k]);
+    const float u_lobe = next_float(rng);
+    const float u0 = next_float(rng);
+    const float u1 = next_float(rng);
+    const restir::BsdfSample s = bsdf.sample(normal, wo, u_lobe, u0, u1);
+    out[i] = sum + s.weight.x * s.pdf + bsdf.specular_probability(normal, wo);
+}
+
 __global__ void ris_kernel(const glm::vec3* light_positions, std::uint32_t light_count,
                            const restir::AliasEntry* alias_entries, float* out) {
     const auto pixel = static_cast<std::uint32_t>(blockIdx.x * blockDim.x + threadIdx.x);
