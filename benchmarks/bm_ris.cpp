@@ -6,9 +6,12 @@
 // changes from pixel to pixel, 32 candidates drawn by a light sampler, each scored by a
 // target function that reads the light's position and power from an array, then finalize.
 // Items are candidates; the time per iteration is the time of one RIS call.
+#include "restir/bsdf/glossy_receiver.hpp"
 #include "restir/core/discrete_sample.hpp"
+#include "restir/core/math.hpp"
 #include "restir/core/rng.hpp"
 #include "restir/light/falloff.hpp"
+#include "restir/light/receiver.hpp"
 #include "restir/sampling/alias_table.hpp"
 #include "restir/sampling/light_sampler.hpp"
 #include "restir/sampling/light_tile_arrays.hpp"
@@ -24,6 +27,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <random>
+#include <type_traits>
 #include <vector>
 
 namespace {
@@ -171,14 +175,17 @@ std::vector<float> light_powers(const std::vector<PointLight>& lights) {
     return powers;
 }
 
-void BM_RIS_Batch(benchmark::State& state) {
+// Batch RIS with the target at `receiver_at(position, normal)`'s receiver; the overload of
+// evaluate_tile_block without a receiver when `receiver_at` is null (white Lambertian).
+template <class ReceiverAt>
+void batch_ris(benchmark::State& state, const ReceiverAt& receiver_at) {
     const std::vector<PointLight> lights = make_lights(static_cast<std::size_t>(state.range(0)));
     const restir::AliasTable table(light_powers(lights));
     const Tiles tiles(lights, restir::PowerLightSampler{table.view()});
     const glm::vec3* receiver_points = receivers().data();
     std::uint32_t pixel = 0u;
     for (auto _ : state) {
-        const glm::vec3 receiver = receiver_points[pixel % kReceiverCount];
+        const glm::vec3 position = receiver_points[pixel % kReceiverCount];
         const glm::vec3 normal = glm::normalize(receiver_points[(pixel + 1u) % kReceiverCount]);
         restir::Pcg32 rng = restir::make_pixel_rng(pixel, 0u, 0u);
         // Pixels take their candidates tile by tile, as the renderer orders its 8 x 8 pixel
@@ -190,15 +197,40 @@ void BM_RIS_Batch(benchmark::State& state) {
         auto reservoir = restir::resample_ris_batch<kBlock>(
             rng, kCandidates, [&](std::uint32_t b, restir::CandidateBlock<kBlock>& block) {
                 const std::uint32_t first = ((start + b * stride) % (kTileSize / kBlock)) * kBlock;
-                return restir::evaluate_tile_block(tiles.view, tile, first, receiver, normal,
-                                                   glm::vec3(1.0f), block);
+                if constexpr (std::is_same_v<ReceiverAt, std::nullptr_t>)
+                    return restir::evaluate_tile_block(tiles.view, tile, first, position, normal,
+                                                       glm::vec3(1.0f), block);
+                else
+                    return restir::evaluate_tile_block(tiles.view, tile, first,
+                                                       receiver_at(position, normal), block);
             });
         benchmark::DoNotOptimize(reservoir);
         ++pixel;
     }
     state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(kCandidates));
 }
+
+void BM_RIS_Batch(benchmark::State& state) { batch_ris(state, nullptr); }
 BENCHMARK(BM_RIS_Batch)->Arg(1000)->Arg(1000000);
+
+// The same through the receiver overload: a Lambertian receiver (the folded diffuse form) and a
+// glossy one (GGX + Lambert, GlossyBsdf::evaluate_cos per candidate), seen from a fixed eye.
+void BM_RIS_Batch_Lambertian(benchmark::State& state) {
+    batch_ris(state, [](glm::vec3 position, glm::vec3 normal) {
+        return restir::LambertianReceiver{position, normal, glm::vec3(restir::pi)};
+    });
+}
+BENCHMARK(BM_RIS_Batch_Lambertian)->Arg(1000)->Arg(1000000);
+
+void BM_RIS_Batch_Glossy(benchmark::State& state) {
+    const restir::GlossyBsdf bsdf =
+        restir::GlossyBsdf::from_metallic_roughness(glm::vec3(0.8f), 0.0f, 0.3f);
+    batch_ris(state, [&](glm::vec3 position, glm::vec3 normal) {
+        const glm::vec3 wo = glm::normalize(glm::vec3(0.0f, 20.0f, 30.0f) - position);
+        return restir::GlossyReceiver{position, normal, wo, bsdf};
+    });
+}
+BENCHMARK(BM_RIS_Batch_Glossy)->Arg(1000)->Arg(1000000);
 
 // The selection step alone: blocks of 8 precomputed target values and inverse pdfs, one
 // selection per block and its reservoir update (what batch RIS adds to the target

@@ -27,6 +27,23 @@ concept Receiver = requires(const R& r, glm::vec3 wi) {
     { r.reflected(wi) } -> std::convertible_to<glm::vec3>;
 };
 
+/// A direction drawn from a BSDF: `wi` (unit, world space) and its solid-angle density `pdf`
+/// (0: no direction).
+struct DirectionSample {
+    glm::vec3 wi{0.0f};
+    float pdf = 0.0f;
+};
+
+/// A `Receiver` that can also draw directions from its BSDF. Required expressions, for floats
+/// `u0, u1, u2` in [0, 1) and a unit direction `wi`:
+///   `r.sample_direction(u0, u1, u2)` -> convertible to DirectionSample;
+///   `r.direction_pdf(wi)`            -> float, the solid-angle density of that draw at wi.
+template <class R>
+concept SamplingReceiver = Receiver<R> && requires(const R& r, glm::vec3 wi, float u) {
+    { r.sample_direction(u, u, u) } -> std::convertible_to<DirectionSample>;
+    { r.direction_pdf(wi) } -> std::convertible_to<float>;
+};
+
 /// A Lambertian receiver: f = albedo / pi. The default receiver, and the fast one: the library
 /// evaluates it through the folded irradiance formulas (`unshadowed_irradiance`), exactly as a
 /// diffuse surface's p-hat was computed before receivers existed.

@@ -1,0 +1,158 @@
+/// @file sampling/bsdf_candidates.hpp
+/// RIS candidates drawn from the receiver's BSDF as well as from the lights, combined by the
+/// balance heuristic (multi-strategy RIS): light candidates miss the few lights inside a narrow
+/// glossy lobe, a BSDF-sampled ray finds them. The ray's hit is turned into a light sample
+/// (which light, which point): the inverse of `sample_point`, answered by the application's
+/// ray query.
+#pragma once
+
+#include "restir/concepts.hpp"
+#include "restir/config.hpp"
+#include "restir/core/channels.hpp"
+#include "restir/core/math.hpp"
+#include "restir/core/reservoir.hpp"
+#include "restir/core/rng.hpp"
+#include "restir/light/falloff.hpp"
+#include "restir/light/light_point_sample.hpp"
+#include "restir/light/light_sample.hpp"
+#include "restir/light/receiver.hpp"
+#include "restir/sampling/light_sampler.hpp"
+
+#include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include <concepts>
+#include <cstdint>
+
+namespace restir {
+
+/// What a ray from a receiver hit first, when it is an emitter: the inverse of `sample_point`.
+/// `point.radiance` is the radiance emitted towards the ray's origin (0 on an emitter's back),
+/// `point.normal` the emitter's normal there, and `point.area_pdf` the density per unit area
+/// with which the light candidates of the same RIS produce that point of light `light_id`
+/// (1 / area for uniform area sampling). `found` is false for a miss or a hit on a surface that
+/// does not emit.
+struct LightHit {
+    bool found = false;
+    std::uint32_t light_id = 0u;
+    LightSample point{};
+};
+
+/// Finds the emitter along a ray. Required expression:
+///   `query.find_light(origin, direction)` -> convertible to LightHit: the first surface hit
+///   from `origin` (a receiver's position; the query offsets the ray's start off that surface,
+///   as the application does for its own BSDF rays) along the unit `direction`.
+/// Point lights and VPLs cannot be hit: only light candidates reach them, and the MIS weights
+/// below give them to that strategy alone.
+template <class Q>
+concept LightHitQuery = requires(const Q& query, glm::vec3 origin, glm::vec3 direction) {
+    { query.find_light(origin, direction) } -> std::convertible_to<LightHit>;
+};
+
+/// How many candidates each strategy draws.
+struct CandidateCounts {
+    std::uint32_t light = 32u; ///< M_light: lights from the sampler, a uniform uv on each.
+    std::uint32_t bsdf = 1u;   ///< M_bsdf: directions from the receiver's BSDF.
+};
+
+namespace detail {
+/// `point` as a sample in the area measure: its intensity is the radiance itself (no
+/// 1 / area_pdf folded in), so p-hat is Le f G and the densities below are per unit area.
+template <LightPoint P>
+RESTIR_HOST_DEVICE LightPointSample area_measure_sample(std::uint32_t light_id, const P& point,
+                                                        const Falloff& falloff) {
+    LightSample unit = to_light_sample(point);
+    unit.area_pdf = 1.0f;
+    return make_light_point_sample(light_id, unit, falloff);
+}
+
+/// Density per unit area of the BSDF strategy at a point of an area light: the solid-angle pdf
+/// times |cos theta_light| / d^2.
+template <SamplingReceiver R>
+RESTIR_HOST_DEVICE float bsdf_area_pdf(const R& receiver, glm::vec3 point, glm::vec3 light_normal) {
+    const glm::vec3 x = point - glm::vec3(receiver.position);
+    const float d2 = glm::dot(x, x);
+    if (!(d2 > 0.0f))
+        return 0.0f;
+    const glm::vec3 wi = x * (1.0f / std::sqrt(d2));
+    const float cos_light = glm::dot(light_normal, wi);
+    const float pdf = static_cast<float>(receiver.direction_pdf(wi)) *
+                      (cos_light < 0.0f ? -cos_light : cos_light) / d2;
+    return is_valid_weight(pdf) ? pdf : 0.0f;
+}
+} // namespace detail
+
+/// Multi-strategy RIS over `counts.light` light candidates (a light from `sampler` at `at`, a
+/// uniform uv on it, `lights.sample_point`) and `counts.bsdf` BSDF candidates (a direction from
+/// `receiver`, the light it hits from `query`), with the balance heuristic over candidate counts
+/// (Lin et al. 2022, Eq. 3.4; `resample_ris_mis`): in the area measure, with x a point on a light,
+///   w_i = p-hat(x_i) / (M_light p_light(x_i) + M_bsdf p_bsdf(x_i)),
+///   p_light(x) = pmf(light at `at`) area_pdf(x),  p_bsdf(x) = pdf_wi(x) |cos theta_light| / d^2,
+/// p-hat(x) = fold_channels<Norm>(unshadowed_radiance(x, receiver)) = |Le f G|, W = w_sum /
+/// p-hat(y). Delta lights (points, VPLs) are in the counting measure with p_bsdf = 0: a BSDF ray
+/// never hits them, so their MIS weight is 1 for light candidates, and RIS stays unbiased for
+/// them through the light strategy alone (as it does for area lights outside every BSDF lobe).
+///
+/// The returned samples carry the radiance itself as intensity (the area measure), not the
+/// radiance / area_pdf of `make_light_point_sample`: shade with
+/// `unshadowed_radiance(sample, receiver) * W` as for any reservoir. Both conventions mix freely
+/// in reuse, since a sample's scale cancels between its p-hat and its W everywhere.
+/// Uses 3 + 2 numbers per light candidate, 3 per BSDF candidate, 1 per candidate to stream.
+template <ChannelNorm Norm = ChannelNorm::sum, UniformRng Rng, ContextLightSampler Sampler,
+          LightSet Lights, SamplingReceiver R, LightHitQuery Query>
+RESTIR_HOST_DEVICE Reservoir<LightPointSample>
+resample_lights_and_bsdf(Rng& rng, const CandidateCounts& counts, const Sampler& sampler,
+                         const ShadingPoint& at, const Lights& lights, const Falloff& falloff,
+                         const R& receiver, const Query& query) {
+    const float m_light = static_cast<float>(counts.light);
+    const float m_bsdf = static_cast<float>(counts.bsdf);
+    const auto target = [&](const LightPointSample& s) {
+        return fold_channels<Norm>(unshadowed_radiance(s, receiver));
+    };
+    Reservoir<LightPointSample> reservoir;
+    for (std::uint32_t i = 0; i < counts.light; ++i) {
+        const DiscreteSample choice = sample_light(sampler, at, rng);
+        const float u = next_float(rng); // named: the order of the draws is fixed
+        const float v = next_float(rng);
+        LightPointSample x;
+        float weight = 0.0f;
+        float target_value = 0.0f;
+        if (choice.pmf > 0.0f) {
+            const auto point = lights.sample_point(choice.index, glm::vec2(u, v));
+            const bool is_delta = static_cast<bool>(point.is_delta);
+            const float area_pdf = is_delta ? 1.0f : static_cast<float>(point.area_pdf);
+            x = detail::area_measure_sample(choice.index, point, falloff);
+            target_value = target(x);
+            const float p_bsdf =
+                is_delta ? 0.0f : detail::bsdf_area_pdf(receiver, x.position, x.normal);
+            weight = safe_divide(target_value, m_light * choice.pmf * area_pdf + m_bsdf * p_bsdf);
+            weight = area_pdf > 0.0f ? weight : 0.0f;
+        }
+        reservoir.stream(x, weight, target_value, next_float(rng));
+    }
+    for (std::uint32_t i = 0; i < counts.bsdf; ++i) {
+        const float u_lobe = next_float(rng);
+        const float u0 = next_float(rng);
+        const float u1 = next_float(rng);
+        const DirectionSample direction = receiver.sample_direction(u_lobe, u0, u1);
+        LightPointSample x;
+        float weight = 0.0f;
+        float target_value = 0.0f;
+        if (direction.pdf > 0.0f) {
+            const LightHit hit = query.find_light(glm::vec3(receiver.position), direction.wi);
+            if (hit.found && !hit.point.is_delta) {
+                x = detail::area_measure_sample(hit.light_id, hit.point, falloff);
+                target_value = target(x);
+                const float p_light = sampler.pmf(at, hit.light_id) * hit.point.area_pdf;
+                const float p_bsdf = detail::bsdf_area_pdf(receiver, x.position, x.normal);
+                weight = safe_divide(target_value, m_light * p_light + m_bsdf * p_bsdf);
+            }
+        }
+        reservoir.stream(x, weight, target_value, next_float(rng));
+    }
+    reservoir.finalize_normalized(1.0f);
+    return reservoir;
+}
+
+} // namespace restir

@@ -1,0 +1,164 @@
+// Multi-strategy RIS over light and BSDF candidates: unbiased for area lights reached by both
+// strategies and for point lights that only light candidates reach, at diffuse and glossy
+// receivers; the truth by quadrature over the light.
+#include <restir/bsdf/glossy_receiver.hpp>
+#include <restir/restir.hpp>
+
+#include "support/statistics.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <string>
+
+namespace {
+
+using restir::test::RunningStats;
+
+// A rectangular emitter facing down (id 0) and an isotropic point light (id 1).
+struct TwoLights {
+    glm::vec3 corner{-0.5f, 1.0f, -0.5f};
+    glm::vec3 edge0{1.0f, 0.0f, 0.0f};
+    glm::vec3 edge1{0.0f, 0.0f, 1.0f};
+    glm::vec3 radiance{2.0f, 1.0f, 0.5f};
+    glm::vec3 point{0.8f, 0.6f, 0.3f};
+    glm::vec3 intensity{0.3f, 0.6f, 0.2f};
+
+    glm::vec3 normal() const { return glm::normalize(glm::cross(edge0, edge1)); } // down
+    float area() const { return glm::length(glm::cross(edge0, edge1)); }
+    std::uint32_t light_count() const { return 2u; }
+    restir::LightSample sample_point(std::uint32_t id, glm::vec2 uv) const {
+        restir::LightSample p;
+        if (id == 0u) {
+            p.position = corner + uv.x * edge0 + uv.y * edge1;
+            p.normal = normal();
+            p.radiance = radiance;
+            p.area_pdf = 1.0f / area();
+        } else {
+            p.position = point;
+            p.normal = glm::vec3(0.0f);
+            p.radiance = intensity;
+            p.area_pdf = 1.0f;
+            p.is_delta = true;
+        }
+        return p;
+    }
+};
+
+// The rectangle along a ray (nothing occludes; the point light cannot be hit).
+struct RectangleQuery {
+    const TwoLights* lights;
+    restir::LightHit find_light(glm::vec3 origin, glm::vec3 direction) const {
+        const glm::vec3 n = lights->normal();
+        const float denominator = glm::dot(n, direction);
+        if (denominator == 0.0f)
+            return {};
+        const float t = glm::dot(n, lights->corner - origin) / denominator;
+        const glm::vec3 p = origin + t * direction - lights->corner;
+        const float u = glm::dot(p, lights->edge0) / glm::dot(lights->edge0, lights->edge0);
+        const float v = glm::dot(p, lights->edge1) / glm::dot(lights->edge1, lights->edge1);
+        if (!(t > 0.0f) || u < 0.0f || u > 1.0f || v < 0.0f || v > 1.0f)
+            return {};
+        restir::LightHit hit{true, 0u, lights->sample_point(0u, {u, v})};
+        hit.point.position = origin + t * direction;
+        if (denominator > 0.0f) // the back of the emitter
+            hit.point.radiance = glm::vec3(0.0f);
+        return hit;
+    }
+};
+
+// A Lambertian receiver that samples its cosine lobe.
+struct CosineReceiver {
+    glm::vec3 position{0.0f};
+    glm::vec3 normal{0.0f, 1.0f, 0.0f};
+    glm::vec3 albedo{0.7f, 0.5f, 0.3f};
+    glm::vec3 reflected(glm::vec3 wi) const {
+        return albedo * (restir::inv_pi * std::max(0.0f, glm::dot(normal, wi)));
+    }
+    restir::DirectionSample sample_direction(float, float u0, float u1) const {
+        const glm::vec3 wi = restir::sample_diffuse_direction(normal, u0, u1);
+        return {wi, restir::diffuse_direction_pdf(normal, wi)};
+    }
+    float direction_pdf(glm::vec3 wi) const { return restir::diffuse_direction_pdf(normal, wi); }
+};
+
+// Le f G over the rectangle by the midpoint rule on a grid of n x n cells, plus the point light.
+template <class R>
+glm::dvec3 truth(const TwoLights& lights, const R& receiver, bool with_point, int n) {
+    glm::dvec3 sum(0.0);
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            const restir::LightSample p =
+                lights.sample_point(0u, {(static_cast<float>(i) + 0.5f) / static_cast<float>(n),
+                                         (static_cast<float>(j) + 0.5f) / static_cast<float>(n)});
+            const glm::vec3 x = p.position - receiver.position;
+            const float d2 = glm::dot(x, x);
+            const glm::vec3 wi = x / std::sqrt(d2);
+            const float cos_light = std::max(0.0f, -glm::dot(p.normal, wi));
+            sum += glm::dvec3(p.radiance * receiver.reflected(wi) * (cos_light / d2));
+        }
+    sum *= static_cast<double>(lights.area()) / (static_cast<double>(n) * n);
+    if (with_point) {
+        const glm::vec3 x = lights.point - receiver.position;
+        const float d2 = glm::dot(x, x);
+        sum += glm::dvec3(lights.intensity * receiver.reflected(x / std::sqrt(d2)) / d2);
+    }
+    return sum;
+}
+
+template <class R>
+void expect_unbiased(const TwoLights& lights, const R& receiver, restir::CandidateCounts counts,
+                     const std::string& label) {
+    const restir::UniformLightSampler sampler{2u};
+    const RectangleQuery query{&lights};
+    const restir::ShadingPoint at{receiver.position, receiver.normal, 0.0f};
+    RunningStats stats[3];
+    constexpr std::uint32_t trials = 40000u;
+    for (std::uint32_t t = 0; t < trials; ++t) {
+        restir::Pcg32 rng = restir::make_pixel_rng(t, 0u, 0u, 7u);
+        const restir::Reservoir<restir::LightPointSample> r =
+            restir::resample_lights_and_bsdf<restir::ChannelNorm::euclidean>(
+                rng, counts, sampler, at, lights, restir::Falloff::exact(), receiver, query);
+        const glm::vec3 estimate =
+            r.has_sample() ? restir::unshadowed_radiance(r.sample, receiver) * r.contribution_weight
+                           : glm::vec3(0.0f);
+        for (int c = 0; c < 3; ++c)
+            stats[c].add(static_cast<double>(estimate[c]));
+    }
+    const glm::dvec3 exact = truth(lights, receiver, glm::length(lights.intensity) > 0.0f, 1024);
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_GT(exact[c], 0.0) << label;
+        EXPECT_LT(std::abs(stats[c].mean() - exact[c]), 4.0 * stats[c].standard_error())
+            << label << " channel " << c << ": mean " << stats[c].mean() << " truth " << exact[c]
+            << " SE " << stats[c].standard_error();
+    }
+}
+
+TEST(BsdfCandidates, UnbiasedAtADiffuseReceiverForEachMixOfStrategies) {
+    TwoLights lights;
+    const CosineReceiver receiver{{0.1f, 0.0f, 0.2f}, {0.0f, 1.0f, 0.0f}, {0.7f, 0.5f, 0.3f}};
+    expect_unbiased(lights, receiver, {8u, 0u}, "lights only");
+    expect_unbiased(lights, receiver, {4u, 2u}, "lights and BSDF");
+    lights.intensity = glm::vec3(0.0f); // BSDF rays alone cannot reach a point light
+    expect_unbiased(lights, receiver, {0u, 4u}, "BSDF only");
+}
+
+TEST(BsdfCandidates, UnbiasedAtGlossyReceivers) {
+    TwoLights lights;
+    const glm::vec3 wo = glm::normalize(glm::vec3(-0.6f, 1.0f, -0.1f));
+    for (const float roughness : {0.05f, 0.3f, 1.0f}) {
+        restir::GlossyReceiver receiver{{0.1f, 0.0f, 0.2f}, {0.0f, 1.0f, 0.0f}, wo, {}};
+        receiver.bsdf =
+            restir::GlossyBsdf::from_metallic_roughness({0.8f, 0.6f, 0.4f}, 0.0f, roughness);
+        const std::string name = "roughness " + std::to_string(roughness);
+        expect_unbiased(lights, receiver, {8u, 0u}, name + ", lights only");
+        expect_unbiased(lights, receiver, {4u, 2u}, name + ", lights and BSDF");
+        restir::GlossyReceiver metal = receiver;
+        metal.bsdf =
+            restir::GlossyBsdf::from_metallic_roughness({0.9f, 0.7f, 0.5f}, 1.0f, roughness);
+        expect_unbiased(lights, metal, {4u, 2u}, name + ", metal, lights and BSDF");
+    }
+}
+
+} // namespace
