@@ -23,7 +23,8 @@ struct RectangleCase {
     glm::vec3 from, corner, edge0, edge1;
 };
 
-const std::array<RectangleCase, 5> rectangle_cases = {{
+// "very far" (6e-12 sr) lies below the front end's switch to area sampling.
+const std::array<RectangleCase, 6> rectangle_cases = {{
     {"close and large",
      {0.3f, 0.2f, 0.1f},
      {-1.0f, -1.0f, 0.0f},
@@ -36,6 +37,7 @@ const std::array<RectangleCase, 5> rectangle_cases = {{
      {-0.05f, 0.1f, 0.3f}},
     {"grazing", {5.0f, 0.4f, 0.05f}, {0.0f, 0.0f, 0.0f}, {1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}},
     {"beside", {-0.5f, 1.5f, 0.4f}, {0.0f, 0.0f, 0.0f}, {0.0f, 2.0f, 0.0f}, {1.0f, 0.0f, 0.0f}},
+    {"very far", {0.3f, 0.2f, 4.0e5f}, {0.0f, 0.0f, 0.0f}, {1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}},
     {"above a corner",
      {0.0f, 0.0f, 1.0f},
      {0.0f, 0.0f, 0.0f},

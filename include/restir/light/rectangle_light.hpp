@@ -9,8 +9,8 @@
 /// uniformity (8 x 8 sub-rectangles, 4 million samples, p < 1e-4) from 3e-4 sr for a 20:1
 /// rectangle and from 1e-4 sr for a square seen face on, and from 1e-4 sr in a grazing view
 /// (p = 0.002 at 3e-4 sr); at 1e-3 sr and above every case passed. Below
-/// `min_solid_angle_for_urena` = 1e-2 sr (a decade of margin) the front end takes the two
-/// triangles, whose half-angle form of Arvo's mapping measured uniform down to 1e-17 sr.
+/// `min_solid_angle_for_urena` = 1e-2 sr (thirty times the largest failure) the front end takes the
+/// two triangles, whose half-angle form of Arvo's mapping measured uniform down to 1e-17 sr.
 #pragma once
 
 #include "restir/config.hpp"

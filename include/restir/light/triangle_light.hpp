@@ -5,14 +5,14 @@
 ///
 /// The switch. The textbook form of Arvo's mapping (the cosine q of the arc A C', then
 /// sqrt(1 - q^2), and the cosine of the arc B P) fails a chi-square test of uniformity (4^3
-/// sub-triangles, 4 million samples, p < 1e-5) from 1e-4 sr for a compact triangle and from
+/// sub-triangles, 4 million samples, p < 2e-4) from 1e-4 sr for a compact triangle and from
 /// 3e-3 sr for a 20:1 sliver; the half-angle form of spherical_triangle.hpp passes the same
 /// test for a compact triangle, a sliver and a grazing view from 1e-2 down to 1e-17 sr and fails
-/// from 1e-20 sr on (squared distances and angles leave float's range). Below
+/// from 1e-20 or 1e-24 sr on, by shape (squared angles leave float's range). Below
 /// `min_solid_angle_for_arvo` = 1e-9 sr (eight decades inside what was measured, and far from
 /// flushed denormals on a GPU) the front end draws by area: there the Jacobian d^2 / |cos|
-/// varies by less than the shape's angular size (3e-5 rad) across it, so area sampling is as
-/// good as uniform solid angle, and it is cheaper.
+/// varies across the shape by a relative amount of the order of its angular size (3e-5 rad for
+/// a compact one), so area sampling is as good as uniform in solid angle, and it is cheaper.
 #pragma once
 
 #include "restir/config.hpp"
