@@ -4,13 +4,13 @@
 /// otherwise the rectangle's two triangles by Arvo's (light/spherical_triangle.hpp), and area
 /// sampling below the triangles' switch (light/triangle_light.hpp).
 ///
-/// The switch. Urena et al.'s mapping in float (the angles g2, g3 near pi / 2 and the
-/// cancellation in S = g0 + g1 + g2 + g3 - 2 pi and its inverse) fails a chi-square test of
+/// The switch. Urena et al.'s mapping in float (its angle u0 S + 2 pi - g2 - g3 carries a
+/// rounding of float epsilon times pi, large against a small S) fails a chi-square test of
 /// uniformity (8 x 8 sub-rectangles, 4 million samples, p < 1e-4) from 3e-4 sr for a 20:1
-/// rectangle and from 1e-4 sr for a square seen face on, and from 1e-4 sr in a grazing view
+/// rectangle, from 1e-4 sr for a square seen face on, and from 1e-4 sr in a grazing view
 /// (p = 0.002 at 3e-4 sr); at 1e-3 sr and above every case passed. Below
-/// `min_solid_angle_for_urena` = 1e-2 sr (thirty times the largest failure) the front end takes the
-/// two triangles, whose half-angle form of Arvo's mapping measured uniform down to 1e-17 sr.
+/// `min_solid_angle_for_urena` = 1e-2 sr (thirty times the largest failure) the front end takes
+/// the two triangles, whose half-angle form of Arvo's mapping measured uniform down to 1e-17 sr.
 #pragma once
 
 #include "restir/config.hpp"
