@@ -429,3 +429,30 @@ __global__ void ris_kernel(const glm::vec3* light_positions, std::uint32_t light
     out[pixel] = reservoir.contribution_weight * target(reservoir.sample) + choice.pmf +
                  restir::evaluate_falloff(restir::FalloffKind::clamped_inverse_square, 1.0f, 0.5f);
 }
+
+// Points on area lights drawn in the solid angle they subtend from a receiver: each sampler and
+// its density, one receiver per thread.
+__global__ void solid_angle_kernel(const glm::vec3* corners, float* out) {
+    const auto i = static_cast<std::uint32_t>(blockIdx.x * blockDim.x + threadIdx.x);
+    restir::Pcg32 rng = restir::make_pixel_rng(i, 0u, restir::RngStream::application);
+    const float u0 = next_float(rng);
+    const float u1 = next_float(rng);
+    const glm::vec2 u(u0, u1);
+    const glm::vec3 from(static_cast<float>(i), 0.5f, -1.0f);
+    const glm::vec3 a = corners[0], b = corners[1], c = corners[2];
+    const glm::vec3 normal = glm::normalize(glm::cross(b - a, c - a));
+    const restir::SolidAngleSample arvo = restir::sample_spherical_triangle(from, a, b, c, u);
+    const restir::SolidAngleSample triangle = restir::sample_triangle_from(from, a, b, c, u);
+    const restir::SolidAngleSample urena =
+        restir::sample_spherical_rectangle(from, a, b - a, c - a, u);
+    const restir::SolidAngleSample rectangle =
+        restir::sample_rectangle_from(from, a, b - a, c - a, u);
+    const restir::SolidAngleSample sphere = restir::sample_sphere_cone(from, a, 0.25f, u);
+    out[i] = restir::solid_angle_to_area_pdf(arvo.pdf, from, arvo.point, normal) +
+             restir::area_to_solid_angle_pdf(1.0f, from, triangle.point, normal) +
+             restir::triangle_pdf_from(from, a, b, c, triangle.point) + triangle.pdf + urena.pdf +
+             restir::rectangle_pdf_from(from, a, b - a, c - a, rectangle.point) +
+             restir::spherical_triangle_solid_angle(from, a, b, c) +
+             restir::spherical_rectangle_solid_angle(from, a, b - a, c - a) + sphere.pdf +
+             restir::sphere_cone_pdf(from, a, 0.25f);
+}
