@@ -36,6 +36,10 @@ struct ReuseSetup {
     // their inputs' own samples are tested (ReuseVisibility::traced_inputs_tested).
     bool retest = false;
     bool mis_rays = true; // false: ReuseVisibility::assumed
+    bool glossy = false;  // the glossy world (GGX receivers) instead of the plain one
+    // Initial candidates from two strategies (resample_ris_mis): lights uniformly, and lights
+    // in proportion to the receiver's BSDF density towards them (the glossy world's guided_pmf).
+    bool guided = false;
 };
 
 std::string name_of(const ReuseSetup& s) {
@@ -43,7 +47,8 @@ std::string name_of(const ReuseSetup& s) {
     const char* passes[] = {"spatial", "temporal", "both", "fused", "two_spatial"};
     return std::string(modes[static_cast<int>(s.mode)]) + "/" + passes[static_cast<int>(s.passes)] +
            (s.visibility_reuse ? "" : "/no-visibility-reuse") + (s.retest ? "/retested" : "") +
-           (s.mis_rays ? "" : "/ray-free");
+           (s.mis_rays ? "" : "/ray-free") + (s.glossy ? "/glossy" : "") +
+           (s.guided ? "/bsdf-candidates" : "");
 }
 
 void PrintTo(const ReuseSetup& setup, std::ostream* os) { *os << name_of(setup); }
@@ -52,7 +57,8 @@ void PrintTo(const ReuseSetup& setup, std::ostream* os) { *os << name_of(setup);
 // visibility) and returns the per-pixel estimates f(y) W of the last frame for each trial.
 class Pipeline {
 public:
-    explicit Pipeline(const ReuseSetup& setup) : setup_(setup) {
+    explicit Pipeline(const ReuseSetup& setup)
+        : setup_(setup), world_(setup.glossy ? &glossy_world() : &world()) {
         reuse_.bias_correction = setup.mode;
         reuse_.visibility = !setup.visibility_reuse ? restir::ReuseVisibility::none
                             : !setup.mis_rays       ? restir::ReuseVisibility::assumed
@@ -72,7 +78,7 @@ public:
             for (std::uint32_t p = 0; p < pixel_count; ++p) {
                 const Reservoir<LightId>& r = final_[p];
                 const Patch& s = surfaces_[p];
-                const double estimate = s.valid ? world().integrand(s.id, r.sample.id) *
+                const double estimate = s.valid ? world_->integrand(s.id, r.sample.id) *
                                                       static_cast<double>(r.contribution_weight)
                                                 : 0.0;
                 stats[p].add(estimate);
@@ -83,12 +89,12 @@ public:
 
     double truth(std::uint32_t pixel, std::uint32_t last_frame) const {
         const Patch s = patch_seen(pixel_of(pixel), last_frame);
-        return s.valid ? world().truth[s.id] : 0.0;
+        return s.valid ? world_->truth[s.id] : 0.0;
     }
 
 private:
     void render_frame(std::uint32_t frame, std::uint32_t trial) {
-        const restir::ReuseBridge bridge{Target{}, Visibility{}};
+        const restir::ReuseBridge bridge{Target{world_}, Visibility{world_}};
         std::vector<Patch> surfaces(pixel_count);
         std::vector<Reservoir<LightId>> current(pixel_count);
         const restir::UniformLightSampler sampler{light_count};
@@ -98,15 +104,9 @@ private:
                 continue;
             restir::Pcg32 rng = restir::make_pixel_rng(i, frame, 0u, trial);
             const Patch surface = surfaces[i];
-            current[i] = restir::resample_ris(
-                rng, initial_candidates,
-                [&](restir::Pcg32& g) {
-                    const restir::DiscreteSample c = restir::sample_light(sampler, g);
-                    return restir::SourceSample<LightId>{{c.index}, c.pmf};
-                },
-                [&](const LightId& x) { return Target{}(x, surface); });
+            current[i] = initial_reservoir(surface, sampler, rng);
             if (setup_.visibility_reuse)
-                restir::apply_visibility(current[i], surface, Visibility{});
+                restir::apply_visibility(current[i], surface, Visibility{world_});
         }
 
         const restir::ImageView<const Patch> surface_view{surfaces.data(), width, height};
@@ -160,20 +160,51 @@ private:
         if (setup_.visibility_reuse)
             for (std::uint32_t i = 0; i < pixel_count; ++i)
                 if (surfaces[i].valid)
-                    restir::apply_visibility(current[i], surfaces[i], Visibility{});
+                    restir::apply_visibility(current[i], surfaces[i], Visibility{world_});
         final_ = current;
         history_ = current;
         surfaces_ = surfaces;
     }
 
-    static void test_visibility(std::vector<Reservoir<LightId>>& reservoirs,
-                                const std::vector<Patch>& surfaces) {
+    void test_visibility(std::vector<Reservoir<LightId>>& reservoirs,
+                         const std::vector<Patch>& surfaces) const {
         for (std::uint32_t i = 0; i < pixel_count; ++i)
             if (surfaces[i].valid)
-                restir::apply_visibility(reservoirs[i], surfaces[i], Visibility{});
+                restir::apply_visibility(reservoirs[i], surfaces[i], Visibility{world_});
+    }
+
+    // RIS over uniformly chosen lights, or (guided) multi-strategy RIS that adds candidates
+    // chosen by the receiver's BSDF density.
+    Reservoir<LightId> initial_reservoir(const Patch& surface,
+                                         const restir::UniformLightSampler& sampler,
+                                         restir::Pcg32& rng) const {
+        const Target target{world_};
+        const auto uniform = [&](restir::Pcg32& g) {
+            const restir::DiscreteSample c = restir::sample_light(sampler, g);
+            return restir::SourceSample<LightId>{{c.index}, c.pmf};
+        };
+        if (!setup_.guided)
+            return restir::resample_ris(rng, initial_candidates, uniform,
+                                        [&](const LightId& x) { return target(x, surface); });
+        const auto& guided = world_->guided_pmf[surface.id];
+        const restir::SourceStrategy lights{
+            initial_candidates, [&](restir::Pcg32& g) { return uniform(g).sample; },
+            [&](const LightId&) { return 1.0f / static_cast<float>(light_count); }};
+        const restir::SourceStrategy bsdf{2u,
+                                          [&](restir::Pcg32& g) {
+                                              float u = next_float(g);
+                                              std::uint32_t l = 0;
+                                              while (l + 1u < light_count && u >= guided[l])
+                                                  u -= guided[l++];
+                                              return LightId{l};
+                                          },
+                                          [&](const LightId& x) { return guided[x.id]; }};
+        return restir::resample_ris_mis(
+            rng, [&](const LightId& x) { return target(x, surface); }, lights, bsdf);
     }
 
     ReuseSetup setup_;
+    const World* world_;
     restir::TemporalParams temporal_ = restir::default_temporal_params();
     restir::SpatialParams spatial_ = restir::default_spatial_params();
     restir::ReuseParams reuse_{};
@@ -237,6 +268,17 @@ std::vector<ReuseSetup> unbiased_setups() {
          {BiasCorrection::one_over_z, BiasCorrection::balance_heuristic, BiasCorrection::pairwise})
         for (Passes passes : {Passes::both, Passes::two_spatial})
             setups.push_back({mode, passes, true, true});
+    // Glossy receivers (roughness 0.05 to 1 along each row, a metal row), with and without
+    // BSDF-guided candidates.
+    for (BiasCorrection mode :
+         {BiasCorrection::one_over_z, BiasCorrection::balance_heuristic, BiasCorrection::pairwise})
+        for (Passes passes : {Passes::two_spatial, Passes::both, Passes::fused})
+            for (bool guided : {false, true}) {
+                ReuseSetup setup{mode, passes, true};
+                setup.glossy = true;
+                setup.guided = guided;
+                setups.push_back(setup);
+            }
     return setups;
 }
 

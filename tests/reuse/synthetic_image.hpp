@@ -9,10 +9,13 @@
 // The camera pans: at frame t, pixel (x, y) sees patch ((x + t) mod 6, y), so the previous
 // frame saw the same patch at (x + 1, y), and the right-most column is disoccluded. Row 1 has
 // wrong motion vectors that point one pixel too far, at a different patch.
-// The truth at a pixel is sum_l f_s(l) for the patch it sees.
+// The truth at a pixel is sum_l f_s(l) for the patch it sees. `glossy_world()` is the same
+// image with p-hat from glossy receivers (make_glossy_world).
 #pragma once
 
 #include <restir/restir.hpp>
+
+#include <glm/geometric.hpp>
 
 #include <array>
 #include <cstdint>
@@ -54,6 +57,9 @@ struct World {
     std::array<std::array<float, light_count>, pixel_count> target{};
     std::array<std::array<bool, light_count>, pixel_count> visible{};
     std::array<double, pixel_count> truth{};
+    /// A second source distribution over lights per patch (the glossy world's BSDF-guided
+    /// choice; empty in the plain world).
+    std::array<std::array<float, light_count>, pixel_count> guided_pmf{};
 
     World() {
         for (std::uint32_t s = 0; s < pixel_count; ++s)
@@ -62,12 +68,19 @@ struct World {
                 target[s][l] =
                     (h % 4u == 0u) ? 0.0f : 0.2f + static_cast<float>(h % 1000u) / 500.0f;
                 visible[s][l] = (h / 4u) % 4u != 0u;
-                truth[s] += integrand(s, l);
             }
+        sum_truth();
     }
     static double colour(std::uint32_t l) { return 0.5 + 0.25 * static_cast<double>(l % 3u); }
     double integrand(std::uint32_t s, std::uint32_t l) const {
         return visible[s][l] ? static_cast<double>(target[s][l]) * colour(l) : 0.0;
+    }
+    void sum_truth() {
+        for (std::uint32_t s = 0; s < pixel_count; ++s) {
+            truth[s] = 0.0;
+            for (std::uint32_t l = 0; l < light_count; ++l)
+                truth[s] += integrand(s, l);
+        }
     }
 };
 
@@ -76,11 +89,62 @@ inline const World& world() {
     return w;
 }
 
+/// The same image with glossy receivers: patch s is a point of a floor (z = 0) with a GGX +
+/// Lambert BSDF (restir::GlossyBsdf) whose roughness runs from 0.05 to 1 along each row (row 2
+/// metallic), seen from one camera, so that neighbours' lobes differ in width and direction;
+/// the 12 lights are isotropic points, some below the floor. p-hat_s(l) is the folded
+/// unshadowed radiance I_l f_s(wo, wi) cos / d^2 (restir::unshadowed_radiance at a
+/// restir::GlossyReceiver); visibility as in the plain world; `guided_pmf` chooses lights in
+/// proportion to the BSDF's sampling density towards them.
+inline World make_glossy_world() {
+    World w;
+    const glm::vec3 camera{2.5f, -3.0f, 4.0f};
+    for (std::uint32_t s = 0; s < pixel_count; ++s) {
+        const glm::vec3 position{static_cast<float>(s % width), static_cast<float>(s / width),
+                                 0.0f};
+        const float roughness = 0.05f + 0.19f * static_cast<float>(s % width);
+        restir::GlossyReceiver receiver{
+            position, {0.0f, 0.0f, 1.0f}, glm::normalize(camera - position), {}};
+        receiver.bsdf = restir::GlossyBsdf::from_metallic_roughness(
+            {0.8f, 0.6f, 0.4f}, s / width == 2u ? 1.0f : 0.0f, roughness);
+        float pdf_sum = 0.0f;
+        for (std::uint32_t l = 0; l < light_count; ++l) {
+            const std::uint32_t h = hash(l, 77u);
+            restir::LightSample light;
+            light.position = {static_cast<float>(h % 700u) / 100.0f - 0.5f,
+                              static_cast<float>((h / 700u) % 400u) / 100.0f - 0.5f,
+                              l % 5u == 4u ? -0.5f : 0.5f + static_cast<float>(h % 13u) / 10.0f};
+            light.normal = glm::vec3(0.0f);
+            light.radiance = glm::vec3(1.0f + static_cast<float>(l % 4u));
+            light.area_pdf = 1.0f;
+            light.is_delta = true;
+            const restir::LightPointSample point =
+                restir::make_light_point_sample(l, light, restir::Falloff::exact());
+            w.target[s][l] = restir::fold_channels<restir::ChannelNorm::sum>(
+                restir::unshadowed_radiance(point, receiver));
+            const glm::vec3 wi = glm::normalize(light.position - position);
+            w.guided_pmf[s][l] = receiver.direction_pdf(wi);
+            pdf_sum += w.guided_pmf[s][l];
+        }
+        for (std::uint32_t l = 0; l < light_count; ++l)
+            w.guided_pmf[s][l] = pdf_sum > 0.0f ? w.guided_pmf[s][l] / pdf_sum : 0.0f;
+    }
+    w.sum_truth();
+    return w;
+}
+
+inline const World& glossy_world() {
+    static const World w = make_glossy_world();
+    return w;
+}
+
 struct Target {
-    float operator()(const LightId& x, const Patch& p) const { return world().target[p.id][x.id]; }
+    const World* w = &world();
+    float operator()(const LightId& x, const Patch& p) const { return w->target[p.id][x.id]; }
 };
 struct Visibility {
-    bool operator()(const LightId& x, const Patch& p) const { return world().visible[p.id][x.id]; }
+    const World* w = &world();
+    bool operator()(const LightId& x, const Patch& p) const { return w->visible[p.id][x.id]; }
 };
 
 inline PixelCoord pixel_of(std::uint32_t index) {
