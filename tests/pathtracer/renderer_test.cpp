@@ -123,7 +123,8 @@ pt::Scene furnace(float albedo) {
         scene.triangle_materials.push_back(0u);
         scene.triangle_materials.push_back(0u);
     }
-    scene.materials.push_back({"glowing", glm::vec3(albedo), glm::vec3(1.0f)});
+    scene.materials.push_back(
+        {.name = "glowing", .albedo = glm::vec3(albedo), .emission = glm::vec3(1.0f)});
     scene.camera = pt::CameraSetup{{0.1f, 0.2f, 0.3f}, {0.0f, 0.0f, -1.0f}, {0, 1, 0}, 90.0f};
     return scene;
 }
