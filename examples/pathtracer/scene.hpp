@@ -5,6 +5,7 @@
 
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
+#include <restir/bsdf/glossy_bsdf.hpp>
 #include <restir/core/rng.hpp>
 
 #include <cstdint>
@@ -44,6 +45,11 @@ struct Material {
     bool is_emissive() const { return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f; }
     /// True when the material has no specular lobe: albedo / pi, as every material once was.
     bool is_lambertian() const { return specular == 0.0f && metallic == 0.0f; }
+    /// The reflection model: GlossyBsdf::from_metallic_roughness(albedo, metallic, roughness,
+    /// specular): diffuse albedo = albedo (1 - metallic), F0 = mix(specular, albedo, metallic).
+    restir::GlossyBsdf bsdf() const {
+        return restir::GlossyBsdf::from_metallic_roughness(albedo, metallic, roughness, specular);
+    }
     /// The material without its specular lobe: Lambertian with the base colour as albedo (a
     /// metal becomes diffuse in its colour).
     Material diffuse() const {
