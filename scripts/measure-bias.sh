@@ -28,7 +28,7 @@ for scene in cornell many-lights obj; do
   case $scene in
   cornell) args=(--scene cornell --gi vpl) ;;
   many-lights) args=(--scene many-lights --lights 1000 --gi none) ;;
-  obj) args=(--scene "$obj" --gi vpl) ;;
+  obj) args=(--scene "$obj" --materials diffuse --gi vpl) ;; # Lambertian, as in docs/
   esac
   args+=(--width "$width" --height "$height" --seed 1)
   "$render" "${args[@]}" --method reference --spp "$reference_spp" --frames 1 \

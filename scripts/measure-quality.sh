@@ -17,7 +17,9 @@ bash scripts/render.sh --width 8 --height 8 --frames 1 --out out/warm-up.png >/d
 render=build/render/examples/pathtracer/restir-render
 dir=out/quality
 mkdir -p "$dir" docs/images
-common=(--scene "$scene" --gi vpl --width "$width" --height "$height")
+# --materials diffuse: the study treats the box as Lambertian (its MTL's Ks/Ns would add a
+# specular lobe, docs/renderer.md), and so do the figures in docs/.
+common=(--scene "$scene" --materials diffuse --gi vpl --width "$width" --height "$height")
 
 # The reference (seed 1) fixes the PNG exposure of every panel.
 "$render" "${common[@]}" --seed 1 --method reference --spp "$reference_spp" --frames 1 \

@@ -25,8 +25,9 @@ scenes=(
   "many-lights-100k|--scene many-lights --lights 100000 --gi none"
   "many-lights-1M|--scene many-lights --lights 1000000 --gi none"
   "cornell-100k-vpls|--scene cornell --gi vpl --vpls 100000"
-  "cornell-box-obj|--scene ../shared/scenes/cornell-box.obj --gi vpl --vpls 100000"
+  "cornell-box-obj|--scene ../shared/scenes/cornell-box.obj --materials diffuse --gi vpl --vpls 100000"
 )
+# The OBJ box Lambertian (--materials diffuse), as docs/performance.md measured it.
 # SOURCE:CANDIDATES[:GRID_CELLS] runs; RUNS="bvh:1 bvh:4" measures those alone, RUNS="grid:32:8"
 # the grid with --grid-cells 8.
 read -r -a runs <<<"${RUNS:-power:32 power:128 power:512 bvh:1 bvh:4 grid:32 grid:128}"

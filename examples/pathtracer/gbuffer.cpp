@@ -11,7 +11,9 @@ GSurface surface_at(const Scene& scene, const Hit& hit, glm::vec3 direction) {
     s.valid = true;
     s.position = hit.position;
     s.normal = front ? hit.normal : -hit.normal;
-    s.albedo = m.albedo;
+    s.wo = -direction;
+    s.bsdf = m.bsdf();
+    s.albedo = s.bsdf.diffuse_albedo;
     s.emitted = front ? m.emission : glm::vec3(0.0f);
     s.depth = hit.distance;
     return s;

@@ -7,6 +7,7 @@
 #include "pixel_blocks.hpp"
 #include "scene.hpp"
 
+#include <restir/bsdf/glossy_bsdf.hpp>
 #include <restir/restir.hpp>
 
 #include <array>
@@ -17,12 +18,18 @@
 
 namespace pt {
 
-/// A G-buffer texel: the primary hit of a pixel. Satisfies restir::Surface.
+/// A G-buffer texel: the primary hit of a pixel (or a path's vertex). Satisfies
+/// restir::Surface.
 struct GSurface {
     glm::vec3 position{0.0f};
     glm::vec3 normal{0.0f, 1.0f, 0.0f}; ///< Geometric normal, turned towards the viewer.
+    glm::vec3 wo{0.0f, 1.0f, 0.0f};     ///< Unit direction towards the viewer (-ray direction).
+    /// The diffuse albedo (bsdf.diffuse_albedo: the base colour of a dielectric, 0 for a metal),
+    /// which VPLs and the photons' bounces use.
     glm::vec3 albedo{0.0f};
     glm::vec3 emitted{0.0f}; ///< Radiance the surface emits towards the viewer.
+    /// The surface's reflection (Material::bsdf); specular_f0 == 0 is Lambertian, albedo / pi.
+    restir::GlossyBsdf bsdf{glm::vec3(0.0f), glm::vec3(0.0f), 1.0f};
     float depth = 0.0f;
     bool valid = false;
 };
@@ -30,9 +37,11 @@ inline glm::vec3 surface_position(const GSurface& s) { return s.position; }
 inline glm::vec3 surface_normal(const GSurface& s) { return s.normal; }
 inline float surface_depth(const GSurface& s) { return s.depth; }
 inline bool is_valid_surface(const GSurface& s) { return s.valid; }
+/// True when the surface reflects as albedo / pi alone (no specular lobe).
+inline bool is_lambertian(const GSurface& s) { return s.bsdf.specular_f0 == glm::vec3(0.0f); }
 
-/// The surface that a ray travelling along `direction` found; emission only on an emitter's
-/// front side.
+/// The surface that a ray travelling along `direction` (unit) found, seen from -direction;
+/// emission only on an emitter's front side.
 GSurface surface_at(const Scene& scene, const Hit& hit, glm::vec3 direction);
 
 /// This frame's and last frame's surfaces, and the packet rays from them.

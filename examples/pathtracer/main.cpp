@@ -70,15 +70,7 @@ std::string error_columns(const pt::Image& image, const std::optional<pt::Image>
     return columns;
 }
 
-// --- Scene loading ---------------------------------------------------------------------------
-
-pt::Scene load_scene(const pt::RenderOptions& options) {
-    if (options.scene == "cornell")
-        return pt::make_cornell_box();
-    if (options.scene == "many-lights")
-        return pt::make_many_lights(options.lights, options.scene_seed);
-    return pt::load_obj(options.scene);
-}
+// --- The camera ------------------------------------------------------------------------------
 
 // The scene's camera (or one framing its bounds) with the flags' changes, checked.
 pt::CameraSetup camera_of(const pt::Scene& scene, const pt::RenderOptions& options) {
@@ -205,7 +197,7 @@ void write_outputs(const pt::Renderer& renderer, const pt::RenderOptions& option
 // and writes the image.
 void run(pt::RenderOptions& options) {
     pt::RenderSettings& settings = options.settings;
-    const pt::Scene scene = load_scene(options);
+    const pt::Scene scene = pt::load_scene(options);
     settings.camera = camera_of(scene, options);
     for (const std::string& out : options.outs)
         pt::check_output_format(out); // before the render, not after it

@@ -11,18 +11,39 @@ namespace {
 
 float max_component(glm::vec3 c) { return std::max(c.x, std::max(c.y, c.z)); }
 
-// Cosine-distributed direction about `normal` (restir's emission sampler).
-glm::vec3 sample_cosine(glm::vec3 normal, restir::Pcg32& rng) {
+// The next direction of a path at `s`, drawn from its BSDF: on a Lambertian surface by cosine
+// from two random numbers (weight = albedo), as every surface was before glossy materials, so
+// that diffuse scenes keep their images; otherwise GlossyBsdf::sample from three.
+restir::BsdfSample sample_bounce(const GSurface& s, restir::Pcg32& rng) {
+    if (is_lambertian(s)) {
+        const float u0 = next_float(rng);
+        const float u1 = next_float(rng);
+        const glm::vec3 wi = restir::sample_diffuse_direction(s.normal, u0, u1);
+        return {wi, s.albedo, restir::diffuse_direction_pdf(s.normal, wi)};
+    }
+    const float u_lobe = next_float(rng);
     const float u0 = next_float(rng);
     const float u1 = next_float(rng);
-    return restir::sample_diffuse_direction(normal, u0, u1);
+    return s.bsdf.sample(s.normal, s.wo, u_lobe, u0, u1);
+}
+
+// The solid-angle density with which sample_bounce draws `wi`.
+float bounce_pdf(const GSurface& s, glm::vec3 wi) {
+    return is_lambertian(s) ? restir::diffuse_direction_pdf(s.normal, wi)
+                            : s.bsdf.pdf(s.normal, s.wo, wi);
 }
 
 } // namespace
 
-glm::vec3 PathTracer::reflected(const GSurface& s, const restir::LightSample& light) const {
-    return s.albedo * restir::inv_pi *
-           restir::unshadowed_irradiance(light, s.position, s.normal, lights_.falloff());
+glm::vec3 PathTracer::reflected(const GSurface& s, const restir::LightSample& light,
+                                glm::vec3 to_light) const {
+    if (is_lambertian(s))
+        return s.albedo * restir::inv_pi *
+               restir::unshadowed_irradiance(light, s.position, s.normal, lights_.falloff());
+    // f cos times the irradiance on a plane facing the light (its "normal" is `to_light`, so
+    // that the receiver's cosine is 1 and the BSDF's cos(theta_i) takes its place).
+    return s.bsdf.evaluate_cos(s.normal, s.wo, to_light) *
+           restir::unshadowed_irradiance(light, s.position, to_light, lights_.falloff());
 }
 
 bool PathTracer::visible(const restir::LightSampleRef& ref, const GSurface& s) const {
@@ -30,9 +51,9 @@ bool PathTracer::visible(const restir::LightSampleRef& ref, const GSurface& s) c
                                                          ray_offset_}(ref, s);
 }
 
-// One emitter by power with MIS against cosine sampling. Kept inline in path_radiance: the
-// compiler fuses multiplies and adds across the call (FMA), so the image's last bits depend on
-// it.
+// One emitter by power with MIS (balance heuristic) against the BSDF's sampling. Kept inline
+// in path_radiance: the compiler fuses multiplies and adds across the call (FMA), so the
+// image's last bits depend on it.
 [[gnu::always_inline]] inline glm::vec3 PathTracer::emitter_nee(const GSurface& s,
                                                                 restir::Pcg32& rng) const {
     const restir::DiscreteSample c =
@@ -51,8 +72,8 @@ bool PathTracer::visible(const restir::LightSampleRef& ref, const GSurface& s) c
     if (!(cos_light > 0.0f) || !(cos_surface > 0.0f) || !visible(ref, s))
         return glm::vec3(0.0f);
     const float light_pdf = c.pmf * light.area_pdf * d2 / cos_light; // solid angle
-    const float bsdf_pdf = restir::diffuse_direction_pdf(s.normal, w);
-    return reflected(s, light) / c.pmf * (light_pdf / (light_pdf + bsdf_pdf));
+    const float bsdf_pdf = bounce_pdf(s, w);
+    return reflected(s, light, w) / c.pmf * (light_pdf / (light_pdf + bsdf_pdf));
 }
 
 glm::vec3 PathTracer::vpl_nee(const GSurface& s, restir::Pcg32& rng) const {
@@ -65,7 +86,12 @@ glm::vec3 PathTracer::vpl_nee(const GSurface& s, restir::Pcg32& rng) const {
     const restir::LightSampleRef ref{lights_.emitters().light_count() + c.index, {0.0f, 0.0f}};
     if (!visible(ref, s))
         return glm::vec3(0.0f);
-    return reflected(s, lights_.lights().sample_point(ref.light_id, ref.uv)) / c.pmf;
+    const restir::LightSample vpl = lights_.lights().sample_point(ref.light_id, ref.uv);
+    const glm::vec3 offset = vpl.position - s.position;
+    const float distance = glm::length(offset);
+    if (!(distance > 0.0f))
+        return glm::vec3(0.0f);
+    return reflected(s, vpl, offset / distance) / c.pmf;
 }
 
 glm::vec3 PathTracer::path_radiance(const GSurface& start, restir::Pcg32& rng, bool direct,
@@ -79,19 +105,21 @@ glm::vec3 PathTracer::path_radiance(const GSurface& start, restir::Pcg32& rng, b
             radiance += throughput * emitter_nee(s, rng);
         if (depth + 1 >= max_depth_ || (!direct && !bounce_further && depth > 0))
             break;
-        const glm::vec3 direction = sample_cosine(s.normal, rng);
+        const restir::BsdfSample bounce = sample_bounce(s, rng);
+        if (!(bounce.pdf > 0.0f))
+            break;
+        const glm::vec3 direction = bounce.wi;
         const Hit hit = rays_.closest_hit(s.position + s.normal * ray_offset_, direction);
         if (!hit.found)
             break;
-        throughput *= s.albedo; // f cos / pdf of cosine sampling
+        throughput *= bounce.weight; // f cos / pdf
         const std::uint32_t emitter = emitters.emitter_of_triangle(hit.triangle);
         if (direct && emitter != TriangleEmitters::none && glm::dot(hit.normal, direction) < 0.0f) {
             const float cos_light = -glm::dot(hit.normal, direction);
             const float light_pdf = lights_.emitter_table().pmf(emitter) / emitters.area(emitter) *
                                     hit.distance * hit.distance / cos_light;
-            const float bsdf_pdf = restir::diffuse_direction_pdf(s.normal, direction);
             radiance +=
-                throughput * emitters.radiance(emitter) * (bsdf_pdf / (bsdf_pdf + light_pdf));
+                throughput * emitters.radiance(emitter) * (bounce.pdf / (bounce.pdf + light_pdf));
         }
         if (!bounce_further)
             break;

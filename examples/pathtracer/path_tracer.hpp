@@ -1,5 +1,6 @@
-// The path tracer: next-event estimation of the emitters (with MIS against cosine sampling)
-// and of the VPLs, and diffuse paths; the reference (--method reference) and --gi path.
+// The path tracer: next-event estimation of the emitters (with MIS against the BSDF's
+// sampling) and of the VPLs, and paths that sample the surfaces' BSDFs; the reference
+// (--method reference) and --gi path.
 #pragma once
 
 #include "embree_scene.hpp"
@@ -26,15 +27,19 @@ public:
     /// With `direct` the emitters' direct light at `start` is included (NEE + MIS); without
     /// it, the caller has estimated it, and only light that bounced at least once more is
     /// added. `bounce_further` continues beyond the first bounce (gi path; otherwise the path
-    /// stops after the cosine-sampled ray that MIS needs).
+    /// stops after the BSDF-sampled ray that MIS needs).
     glm::vec3 path_radiance(const GSurface& start, restir::Pcg32& rng, bool direct,
                             bool bounce_further) const;
-    /// One VPL chosen by power, its light at `s` (no MIS: VPLs are points).
+    /// One VPL chosen by power, its light reflected at `s` by s.bsdf (no MIS: VPLs are
+    /// points). VPLs emit as diffuse surfaces whatever the material they lie on.
     glm::vec3 vpl_nee(const GSurface& s, restir::Pcg32& rng) const;
 
 private:
     glm::vec3 emitter_nee(const GSurface& s, restir::Pcg32& rng) const;
-    glm::vec3 reflected(const GSurface& s, const restir::LightSample& light) const;
+    /// Light of a point `light` (unshadowed) reflected at `s` towards s.wo; `to_light` is the
+    /// unit direction from s to it.
+    glm::vec3 reflected(const GSurface& s, const restir::LightSample& light,
+                        glm::vec3 to_light) const;
     bool visible(const restir::LightSampleRef& ref, const GSurface& s) const;
 
     const Scene& scene_;

@@ -67,8 +67,16 @@ CLI::Validator names(const std::map<std::string, Enum>& values) {
 void add_scene_options(CLI::App& app, RenderOptions& options) {
     RenderSettings& settings = options.settings;
     app.add_option("--scene", options.scene,
-                   "cornell (built in), many-lights (procedural, see --lights) or a Wavefront "
-                   "FILE.obj");
+                   "cornell (built in, diffuse), cornell-glossy (the same box with a polished "
+                   "floor, a metal and a rough block), many-lights (procedural, see --lights) "
+                   "or a Wavefront FILE.obj");
+    app.add_option("--materials", options.materials,
+                   "mtl: the materials as the scene defines them (an OBJ's MTL with its "
+                   "specular lobes, docs/renderer.md); diffuse: every material Lambertian in its "
+                   "base colour (metals too), as the study's comparisons assume")
+        ->transform(
+            names<MaterialMode>({{"mtl", MaterialMode::mtl}, {"diffuse", MaterialMode::diffuse}}))
+        ->default_str("mtl");
     app.add_option("--lights", options.lights, "Emissive quads of the many-lights scene")
         ->check(CLI::Range(1u, 10'000'000u));
     app.add_option("--scene-seed", options.scene_seed,
@@ -255,6 +263,17 @@ void check_consistent(const RenderOptions& options) {
 }
 
 } // namespace
+
+Scene load_scene(const RenderOptions& options) {
+    Scene scene = options.scene == "cornell"          ? make_cornell_box()
+                  : options.scene == "cornell-glossy" ? make_glossy_cornell_box()
+                  : options.scene == "many-lights"
+                      ? make_many_lights(options.lights, options.scene_seed)
+                      : load_obj(options.scene);
+    if (options.materials == MaterialMode::diffuse)
+        make_materials_diffuse(scene);
+    return scene;
+}
 
 std::optional<RenderOptions> parse_render_options(int argc, const char* const* argv,
                                                   std::string& help) {

@@ -16,6 +16,7 @@ namespace pt {
 struct RenderOptions {
     RenderSettings settings = default_render_settings();
     std::string scene = "cornell";
+    MaterialMode materials = MaterialMode::mtl;
     std::uint32_t lights = 1000;
     std::uint64_t scene_seed = 0;
     std::uint64_t max_memory_mb = 0;
@@ -45,5 +46,9 @@ struct UsageError : std::runtime_error {
 /// out of range or not finite, inconsistent flags, or a render beyond the memory limit.
 std::optional<RenderOptions> parse_render_options(int argc, const char* const* argv,
                                                   std::string& help);
+
+/// The scene that `options` name (cornell, cornell-glossy, many-lights or an OBJ file), its
+/// materials made Lambertian with --materials diffuse. Throws SceneError.
+Scene load_scene(const RenderOptions& options);
 
 } // namespace pt

@@ -1,6 +1,8 @@
 // The photon shooter's scatter hook for the renderer's materials: Lambertian reflection of
-// the hit triangle's albedo, sampled by cosine about the normal facing the photon. Emitters
-// reflect too but hold no VPL (restir::ScatterFunction).
+// the hit triangle's base colour (Material::albedo), sampled by cosine about the normal facing
+// the photon. Glossy materials reflect photons diffusely too, a metal in its F0 colour, and
+// their VPLs are diffuse emitters (docs/renderer.md). Emitters reflect too but hold no VPL
+// (restir::ScatterFunction).
 #pragma once
 
 #include "embree_scene.hpp"

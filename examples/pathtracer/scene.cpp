@@ -1,5 +1,5 @@
 // What every scene shares, however it was made: its quads as triangles (scene_quad.hpp), its
-// bounds and size, its triangles' normals, and a camera framing it.
+// bounds and size, its triangles' normals, a camera framing it, and its materials made diffuse.
 #include "scene.hpp"
 #include "scene_quad.hpp"
 
@@ -27,6 +27,11 @@ void add_quad(Scene& scene, Quad quad, glm::vec3 towards, std::uint32_t material
     }
     scene.triangle_materials.push_back(material);
     scene.triangle_materials.push_back(material);
+}
+
+void make_materials_diffuse(Scene& scene) {
+    for (Material& material : scene.materials)
+        material = material.diffuse();
 }
 
 SceneBounds bounds_of(const Scene& scene) {

@@ -1,10 +1,11 @@
-// Scene description of the example renderer: triangles with diffuse materials, some emissive,
+// Scene description of the example renderer: triangles with materials, some emissive,
 // and an optional suggested camera. Built in (Cornell box, procedural many lights) or loaded
 // from Wavefront OBJ/MTL.
 #pragma once
 
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
+#include <restir/bsdf/glossy_bsdf.hpp>
 #include <restir/core/rng.hpp>
 
 #include <cstdint>
@@ -29,14 +30,39 @@ struct RenderStream {
     static constexpr std::uint32_t grid_jitter = pixel_jitter + 5u;  ///< --source grid lookups
 };
 
-/// A diffuse material: reflectance and emitted radiance (both linear RGB).
+/// A material in the metallic-roughness form: a base colour, a dielectric specular lobe of
+/// reflectance `specular` at normal incidence, or a metal (`metallic` 1) whose specular
+/// colour is the base colour; and emitted radiance. Colours are linear RGB. A default material
+/// (specular 0, metallic 0) is Lambertian: albedo / pi.
 struct Material {
     std::string name;
-    glm::vec3 albedo{0.8f};
-    glm::vec3 emission{0.0f};
+    glm::vec3 albedo{0.8f};   ///< The base colour: a dielectric's diffuse albedo, a metal's F0.
+    glm::vec3 emission{0.0f}; ///< Emitted radiance (front side only).
+    float specular = 0.0f;    ///< Dielectric F0 in [0, 1]: 0 has no specular lobe, 0.04 is common.
+    float roughness = 1.0f;   ///< Perceptual roughness in [0, 1] (GGX alpha = roughness^2).
+    float metallic = 0.0f;    ///< In [0, 1]: 1 is a metal, between blends the two.
 
     bool is_emissive() const { return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f; }
+    /// True when the material has no specular lobe: albedo / pi, as every material once was.
+    bool is_lambertian() const { return specular == 0.0f && metallic == 0.0f; }
+    /// The reflection model: GlossyBsdf::from_metallic_roughness(albedo, metallic, roughness,
+    /// specular): diffuse albedo = albedo (1 - metallic), F0 = mix(specular, albedo, metallic).
+    restir::GlossyBsdf bsdf() const {
+        return restir::GlossyBsdf::from_metallic_roughness(albedo, metallic, roughness, specular);
+    }
+    /// The material without its specular lobe: Lambertian with the base colour as albedo (a
+    /// metal becomes diffuse in its colour).
+    Material diffuse() const {
+        Material lambertian = *this;
+        lambertian.specular = 0.0f;
+        lambertian.metallic = 0.0f;
+        return lambertian;
+    }
 };
+
+/// Which materials a render uses: the scene's (`mtl`, with their specular lobes), or every one
+/// made Lambertian (`diffuse`, Material::diffuse) for comparisons that assume diffuse scenes.
+enum class MaterialMode { mtl, diffuse };
 
 /// Where the camera looks from, at, and its vertical field of view.
 /// Largest coordinate a scene vertex or the camera may have: Embree takes no ray origin or
@@ -64,6 +90,9 @@ struct Scene {
         return static_cast<std::uint32_t>(triangle_materials.size());
     }
 };
+
+/// Every material of `scene` made Lambertian (Material::diffuse).
+void make_materials_diffuse(Scene& scene);
 
 /// Triangle `t` of a scene as its first corner and the edges from there, in winding order.
 struct Triangle {
@@ -94,15 +123,25 @@ struct SceneError : std::runtime_error {
 /// reflectances and light, and the published camera.
 Scene make_cornell_box();
 
+/// The same box with glossy materials ("cornell-glossy"): a polished dielectric floor
+/// (roughness 0.12) that mirrors the light and the blocks, a gold-coloured metal tall block
+/// (roughness 0.25) and a rough dielectric short block (roughness 0.6); the walls, the ceiling
+/// and the light as in make_cornell_box.
+Scene make_glossy_cornell_box();
+
 /// A floor lit by `light_count` small emissive quads (two triangles each) floating above it,
 /// with colours and intensities drawn from `seed`; for light-count scaling measurements.
 /// Throws SceneError for a count of 0 or above 10 million.
 Scene make_many_lights(std::uint32_t light_count, std::uint64_t seed);
 
-/// Wavefront OBJ with its MTL files (tinyobjloader): `Kd` is the diffuse albedo, `Ke` the
-/// emitted radiance; other MTL properties are ignored. Polygons are triangulated. Throws
+/// Wavefront OBJ with its MTL files (tinyobjloader). Materials as Blender's exporter writes
+/// them from its Principled BSDF (docs/renderer.md): `Kd` is the base colour, `Ke` the emitted
+/// radiance, `Ks` the "specular" input (F0 = 0.08 Ks, its mean over the channels, at most
+/// 0.08), `Pr` the roughness, or without it 1 - sqrt(Ns) / 30 (`Ns` = ((1 - roughness) 30)^2),
+/// `Pm` the metallic; other MTL properties are ignored. Polygons are triangulated. Throws
 /// SceneError with a one-line message for a missing, unreadable or malformed file (numbers
-/// that are not finite, indices out of range), or a scene without triangles.
+/// that are not finite, negative material values, indices out of range), or a scene without
+/// triangles.
 Scene load_obj(const std::filesystem::path& path);
 
 /// The same from text in memory: `mtl_text` is what every `mtllib` of `obj_text` reads, and

@@ -1,5 +1,6 @@
 // The built-in Cornell box (examples/common/cornell_box.hpp, shared with the CUDA benchmark) as
-// the renderer's scene: its room, its two white blocks, its materials and its camera.
+// the renderer's scenes: its room, its two blocks, its materials and its camera; diffuse
+// ("cornell") or with a glossy floor, a metal block and a rough block ("cornell-glossy").
 #include "scene.hpp"
 #include "scene_quad.hpp"
 
@@ -22,19 +23,19 @@ Quad to_quad(const cornell::Quad& q) {
 }
 
 // The floor, the light, the ceiling and the walls (cornell::Box::room, in its order), each
-// facing the room's interior; the light faces down.
-void add_cornell_room(Scene& scene, const cornell::Box& box) {
+// facing the room's interior; the light faces down. The floor takes `floor_material`.
+void add_cornell_room(Scene& scene, const cornell::Box& box, std::uint32_t floor_material) {
     const glm::vec3 interior = to_vec3(box.interior);
     for (std::uint32_t i = 0; i < 6u; ++i) {
         const Quad quad = to_quad(box.room[i]);
         const glm::vec3 towards =
             i == cornell::light_quad ? to_vec3(box.light_facing) : interior - centroid(quad);
-        add_quad(scene, quad, towards, box.room_materials[i]);
+        add_quad(scene, quad, towards, i == 0u ? floor_material : box.room_materials[i]);
     }
 }
 
-// A white convex block of five faces (the floor closes it), each facing outwards.
-void add_block(Scene& scene, const cornell::Block& block) {
+// A convex block of five faces (the floor closes it), each facing outwards.
+void add_block(Scene& scene, const cornell::Block& block, std::uint32_t material) {
     std::array<Quad, 5> faces;
     for (std::size_t i = 0; i < faces.size(); ++i)
         faces[i] = to_quad(block.faces[i]);
@@ -45,24 +46,60 @@ void add_block(Scene& scene, const cornell::Block& block) {
     }
     centre /= static_cast<float>(faces.size());
     for (const Quad& face : faces) {
-        add_quad(scene, face, centroid(face) - centre, cornell::white);
+        add_quad(scene, face, centroid(face) - centre, material);
     }
+}
+
+// The box's four diffuse materials (indices cornell::Material) and its camera; no geometry.
+Scene cornell_materials_and_camera(const cornell::Box& box, const char* name) {
+    Scene scene;
+    scene.name = name;
+    for (std::uint32_t m = 0; m < cornell::material_count; ++m) {
+        Material material;
+        material.name = cornell::material_names[m];
+        material.albedo = to_vec3(box.materials[m].albedo);
+        material.emission = to_vec3(box.materials[m].emission);
+        scene.materials.push_back(material);
+    }
+    scene.camera = CameraSetup{to_vec3(box.camera.look_from), to_vec3(box.camera.look_at),
+                               to_vec3(box.camera.up), box.camera.fov_degrees};
+    return scene;
+}
+
+// Appends `material` and returns its index.
+std::uint32_t add_material(Scene& scene, const Material& material) {
+    scene.materials.push_back(material);
+    return static_cast<std::uint32_t>(scene.materials.size() - 1u);
 }
 
 } // namespace
 
 Scene make_cornell_box() {
     constexpr cornell::Box box = cornell::box();
-    Scene scene;
-    scene.name = "cornell";
-    for (std::uint32_t m = 0; m < cornell::material_count; ++m)
-        scene.materials.push_back({cornell::material_names[m], to_vec3(box.materials[m].albedo),
-                                   to_vec3(box.materials[m].emission)});
-    add_cornell_room(scene, box);
-    add_block(scene, box.short_block);
-    add_block(scene, box.tall_block);
-    scene.camera = CameraSetup{to_vec3(box.camera.look_from), to_vec3(box.camera.look_at),
-                               to_vec3(box.camera.up), box.camera.fov_degrees};
+    Scene scene = cornell_materials_and_camera(box, "cornell");
+    add_cornell_room(scene, box, cornell::white);
+    add_block(scene, box.short_block, cornell::white);
+    add_block(scene, box.tall_block, cornell::white);
+    return scene;
+}
+
+Scene make_glossy_cornell_box() {
+    constexpr cornell::Box box = cornell::box();
+    Scene scene = cornell_materials_and_camera(box, "cornell-glossy");
+    const glm::vec3 white = scene.materials[cornell::white].albedo;
+    // F0 0.04: a dielectric of refractive index 1.5, ((n - 1) / (n + 1))^2.
+    const Material floor{
+        .name = "polished-floor", .albedo = white, .specular = 0.04f, .roughness = 0.12f};
+    // Gold's reflectance at normal incidence, roughly (linear RGB), as the metal's base colour.
+    const Material gold{.name = "brushed-gold",
+                        .albedo = {1.0f, 0.78f, 0.34f},
+                        .roughness = 0.25f,
+                        .metallic = 1.0f};
+    const Material satin{
+        .name = "satin-white", .albedo = white, .specular = 0.04f, .roughness = 0.6f};
+    add_cornell_room(scene, box, add_material(scene, floor));
+    add_block(scene, box.short_block, add_material(scene, satin));
+    add_block(scene, box.tall_block, add_material(scene, gold));
     return scene;
 }
 

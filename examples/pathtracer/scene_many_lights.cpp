@@ -86,9 +86,10 @@ void add_light_materials(Scene& scene, const LightPalette& palette, double weigh
             name += '0';
         }
         name += std::to_string(k);
-        scene.materials.push_back({std::move(name),
-                                   {0.8f, 0.8f, 0.8f},
-                                   palette.colours[k] * (palette.intensities[k] * scale)});
+        scene.materials.push_back(
+            {.name = std::move(name),
+             .albedo = {0.8f, 0.8f, 0.8f},
+             .emission = palette.colours[k] * (palette.intensities[k] * scale)});
     }
 }
 
@@ -105,7 +106,7 @@ Scene make_many_lights(std::uint32_t light_count, std::uint64_t seed) {
     scene.indices.reserve(6 * (std::size_t{light_count} + 1));
     scene.triangle_materials.reserve(2 * (std::size_t{light_count} + 1));
     scene.materials.reserve(palette_size + 1);
-    scene.materials.push_back({"floor", {0.725f, 0.71f, 0.68f}, {0.0f, 0.0f, 0.0f}});
+    scene.materials.push_back({.name = "floor", .albedo = {0.725f, 0.71f, 0.68f}});
 
     const float f = floor_half_size;
     add_quad(scene, {{{-f, 0.0f, -f}, {f, 0.0f, -f}, {f, 0.0f, f}, {-f, 0.0f, f}}},

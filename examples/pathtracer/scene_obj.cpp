@@ -8,6 +8,7 @@
 
 #include <tiny_obj_loader.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <charconv>
@@ -122,16 +123,60 @@ void check_obj_text(std::string_view text, const Fail& fail) {
     });
 }
 
-// Colours the loader uses must be numbers: "Kd nan" would silently be black.
+// After check_numbers: the numbers from `first` on are at least 0 (-0 included).
+void check_not_negative(std::size_t line, const std::vector<std::string_view>& tokens,
+                        std::size_t first, const Fail& fail) {
+    for (std::size_t i = first; i < tokens.size(); ++i) {
+        double value = 0.0;
+        std::from_chars(tokens[i].data(), tokens[i].data() + tokens[i].size(), value);
+        if (value < 0.0)
+            throw fail("line " + std::to_string(line) + ": " + std::string(tokens.front()) + " '" +
+                       shown(tokens[i]) + "' is negative");
+    }
+}
+
+// Values the loader uses must be numbers: "Kd nan" would silently be black. The specular ones
+// (Ks, Ns, Pr, Pm) must not be negative either: none of them has a meaning below 0, and -1
+// marks an absent Ns or Pr (mark_absent_values).
 void check_mtl_text(std::string_view text, const Fail& fail) {
     for_each_line(text, [&](std::size_t line, const std::vector<std::string_view>& tokens) {
         const std::string_view keyword = tokens.front();
         if (keyword == "Kd" || keyword == "Ke" || keyword == "Ka" || keyword == "Ks") {
             if (tokens.size() > 1 && tokens[1] == "spectral")
                 return;
-            check_numbers(line, tokens, tokens.size() > 1 && tokens[1] == "xyz" ? 2 : 1, fail);
+            const std::size_t first = tokens.size() > 1 && tokens[1] == "xyz" ? 2 : 1;
+            check_numbers(line, tokens, first, fail);
+            if (keyword == "Ks")
+                check_not_negative(line, tokens, first, fail);
+        } else if (keyword == "Ns" || keyword == "Pr" || keyword == "Pm") {
+            if (tokens.size() < 2) // tinyobjloader would read 0: a mirror for "Pr"
+                throw fail("line " + std::to_string(line) + ": " + std::string(keyword) +
+                           " needs a number");
+            check_numbers(line, tokens, 1, fail);
+            check_not_negative(line, tokens, 1, fail);
         }
     });
+}
+
+// tinyobjloader gives no sign of whether a material had Ns or Pr, and its defaults for them
+// (Ns 1, Pr 0) are values a file may hold: `text` with "Ns -1" and "Pr -1" after every line
+// that starts a material (as tinyobjloader sees one), so that an absent value reads -1, which
+// no checked file holds (check_mtl_text).
+std::string mark_absent_values(std::string_view text) {
+    std::string marked;
+    marked.reserve(text.size());
+    while (!text.empty()) {
+        const std::size_t end = text.find('\n');
+        const std::string_view line = text.substr(0, end);
+        text = end == std::string_view::npos ? std::string_view{} : text.substr(end + 1);
+        marked.append(line).append("\n");
+        const std::string_view start =
+            line.substr(std::min(line.find_first_not_of(" \t"), line.size()));
+        if (start.size() > 6 && start.starts_with("newmtl") &&
+            (start[6] == ' ' || start[6] == '\t'))
+            marked.append("Ns -1\nPr -1\n");
+    }
+    return marked;
 }
 
 std::string read_text(const std::filesystem::path& path, const std::string& what,
@@ -187,27 +232,48 @@ public:
         const auto found = texts.find(name);
         if (found == texts.end() && !fallback)
             return false; // load_obj checked every library exists before parsing
-        std::istringstream in(found != texts.end() ? found->second : *fallback);
+        std::istringstream in(mark_absent_values(found != texts.end() ? found->second : *fallback));
         tinyobj::LoadMtl(names, materials, &in, warning, error);
         return true;
     }
 };
 
-// The scene's materials from the OBJ's (Kd clamped to [0, 1], Ke at least 0), and a "default"
-// one, added the first time a face names no material or one that does not exist.
+// Blender's Principled BSDF "Specular" input s means F0 = 0.08 s (s = 0.5: 4 %, a refractive
+// index of 1.5), and its OBJ exporter writes Ns = ((1 - roughness) 30)^2 (docs/renderer.md).
+constexpr float specular_to_f0 = 0.08f;
+constexpr float ns_root_scale = 30.0f;
+
+// The renderer's material of an MTL material (checked: no value is negative or not finite,
+// and Ns or Pr is -1 when absent, mark_absent_values): Kd the base colour, clamped to [0, 1];
+// Ke the emission; F0 = 0.08 Ks (the channels' mean, at most 1: F0 at most 8 %); the
+// roughness Pr, or 1 - sqrt(Ns) / 30, or 1 without either; the metallic Pm (both clamped to
+// [0, 1]).
+Material material_of(const tinyobj::material_t& source) {
+    Material material;
+    material.name = source.name;
+    material.albedo =
+        glm::clamp(glm::vec3{source.diffuse[0], source.diffuse[1], source.diffuse[2]}, 0.0f, 1.0f);
+    material.emission =
+        glm::max(glm::vec3{source.emission[0], source.emission[1], source.emission[2]}, 0.0f);
+    const float ks = (source.specular[0] + source.specular[1] + source.specular[2]) / 3.0f;
+    material.specular = specular_to_f0 * std::clamp(ks, 0.0f, 1.0f);
+    if (source.roughness >= 0.0f)
+        material.roughness = std::min(source.roughness, 1.0f);
+    else if (source.shininess >= 0.0f)
+        material.roughness =
+            std::clamp(1.0f - std::sqrt(source.shininess) / ns_root_scale, 0.0f, 1.0f);
+    material.metallic = std::clamp(source.metallic, 0.0f, 1.0f);
+    return material;
+}
+
+// The scene's materials from the OBJ's (material_of), and a "default" one (Lambertian), added
+// the first time a face names no material or one that does not exist.
 class ObjMaterials {
 public:
     ObjMaterials(Scene& scene, const std::vector<tinyobj::material_t>& materials)
         : scene_(scene), obj_count_(static_cast<int>(materials.size())) {
-        for (const tinyobj::material_t& source : materials) {
-            Material material;
-            material.name = source.name;
-            material.albedo = glm::clamp(
-                glm::vec3{source.diffuse[0], source.diffuse[1], source.diffuse[2]}, 0.0f, 1.0f);
-            material.emission = glm::max(
-                glm::vec3{source.emission[0], source.emission[1], source.emission[2]}, 0.0f);
-            scene_.materials.push_back(std::move(material));
-        }
+        for (const tinyobj::material_t& source : materials)
+            scene_.materials.push_back(material_of(source));
     }
 
     // The scene material of a face's material id.
@@ -217,7 +283,7 @@ public:
         }
         if (default_ == none) {
             default_ = static_cast<std::uint32_t>(scene_.materials.size());
-            scene_.materials.push_back({"default", glm::vec3{0.8f}, glm::vec3{0.0f}});
+            scene_.materials.push_back({.name = "default"});
         }
         return default_;
     }

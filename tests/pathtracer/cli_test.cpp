@@ -97,9 +97,11 @@ TEST(Cli, HelpDocumentsEveryFlagWithItsDefault) {
                              "--permutation-sampling",
                              "--boiling-filter",
                              "--scene-seed",
+                             "--materials",
                              "--max-memory"})
         EXPECT_NE(r.out.find(flag), std::string::npos) << flag;
     EXPECT_NE(r.out.find("restir"), std::string::npos);
+    EXPECT_NE(r.out.find("cornell-glossy"), std::string::npos);
 }
 
 TEST(Cli, BadInputIsOneLineAndStatusTwo) {
@@ -304,16 +306,32 @@ TEST(Cli, CsvHasTheErrorMeasuresAndItsDirectoryIsMade) {
     EXPECT_EQ(fields[1], "");
 }
 
+// The glossy box renders with every method, its reference on all three indirect modes.
+TEST(Cli, RendersTheGlossyCornellBox) {
+    for (const char* method : {"reference", "restir"})
+        for (const char* gi : {"none", "vpl", "path"}) {
+            const Outcome r = run(
+                small(std::string("--scene cornell-glossy --method ") + method + " --gi " + gi));
+            EXPECT_EQ(r.status, 0) << method << " " << gi << "\n" << r.err;
+            EXPECT_NE(r.out.find("scene cornell-glossy: 32 triangles, 2 emitters"),
+                      std::string::npos)
+                << r.out;
+        }
+    expect_one_line_error(small("--scene cornell-glossy --materials shiny"), "--materials");
+}
+
 TEST(Cli, RendersTheSharedCornellBoxObj) {
     const fs::path obj = fs::path(RESTIR_SHARED_SCENES) / "cornell-box.obj";
     if (!fs::exists(obj))
         GTEST_SKIP() << obj << " is not there";
-    const Outcome r = run("--scene " + obj.string() +
-                          " --width 16 --height 16 --frames 1 --vpls 500 "
-                          "--out " +
-                          (scratch_dir() / "obj.png").string());
-    EXPECT_EQ(r.status, 0) << r.err;
-    EXPECT_NE(r.out.find("2 emitters"), std::string::npos) << r.out;
+    for (const char* materials : {"mtl", "diffuse"}) {
+        const Outcome r = run("--scene " + obj.string() + " --materials " + materials +
+                              " --width 16 --height 16 --frames 1 --vpls 500 "
+                              "--out " +
+                              (scratch_dir() / "obj.png").string());
+        EXPECT_EQ(r.status, 0) << r.err;
+        EXPECT_NE(r.out.find("2 emitters"), std::string::npos) << r.out;
+    }
 }
 
 } // namespace

@@ -97,9 +97,8 @@ TEST(Renderer, RestirBeatsRisBeatsUniformSampling) {
     EXPECT_LT(error[1], error[0]);
 }
 
-// A closed box whose walls all emit Le and reflect with albedo a: the radiance everywhere is
-// Le (1 + a) with direct light only, and Le / (1 - a) with all bounces.
-pt::Scene furnace(float albedo) {
+// A closed box whose walls are all `walls`: emitting and reflecting.
+pt::Scene furnace_of(const pt::Material& walls) {
     pt::Scene scene;
     scene.name = "furnace";
     for (float x : {-1.0f, 1.0f})
@@ -123,9 +122,16 @@ pt::Scene furnace(float albedo) {
         scene.triangle_materials.push_back(0u);
         scene.triangle_materials.push_back(0u);
     }
-    scene.materials.push_back({"glowing", glm::vec3(albedo), glm::vec3(1.0f)});
+    scene.materials.push_back(walls);
     scene.camera = pt::CameraSetup{{0.1f, 0.2f, 0.3f}, {0.0f, 0.0f, -1.0f}, {0, 1, 0}, 90.0f};
     return scene;
+}
+
+// A closed box whose walls all emit Le and reflect with albedo a: the radiance everywhere is
+// Le (1 + a) with direct light only, and Le / (1 - a) with all bounces.
+pt::Scene furnace(float albedo) {
+    return furnace_of(
+        {.name = "glowing", .albedo = glm::vec3(albedo), .emission = glm::vec3(1.0f)});
 }
 
 TEST(Renderer, ReferenceConvergesToTheFurnaceRadiance) {
@@ -149,6 +155,55 @@ TEST(Renderer, ReferenceConvergesToTheFurnaceRadiance) {
         std::printf("furnace, gi %d: mean %.5f +- %.5f, expected %.5f\n", static_cast<int>(gi),
                     radiance.mean(), radiance.standard_error(), expected);
         EXPECT_TRUE(restir::test::agrees_with(radiance, expected)) << static_cast<int>(gi);
+    }
+}
+
+// Direct light in a furnace of glossy walls that emit Le = 1: L = Le (1 + A(wo)), A(wo) the
+// directional albedo, integral of f cos over the hemisphere. The reference path tracer
+// estimates the reflected part with emitter NEE and BSDF sampling under MIS; here A(wo) comes
+// from BSDF sampling alone (the mean of GlossyBsdf::sample's weights), so that a wrong density
+// in either MIS weight, or a wrong f cos in NEE, shows as a difference.
+TEST(Renderer, ReferenceMatchesTheGlossyFurnacesDirectionalAlbedo) {
+    const pt::Material materials[] = {
+        {.albedo = glm::vec3(0.5f), .specular = 0.04f, .roughness = 0.3f},
+        {.albedo = {0.95f, 0.64f, 0.54f}, .roughness = 0.15f, .metallic = 1.0f},
+        {.albedo = {0.2f, 0.6f, 0.9f}, .specular = 0.08f, .roughness = 0.5f, .metallic = 0.5f}};
+    // One pixel at the camera's centre sees the wall z = -1 at (-0.9, 0, -1), 66 degrees off
+    // its normal.
+    const glm::vec3 eye{0.9f, 0.0f, -0.2f}, seen{-0.9f, 0.0f, -1.0f}, normal{0.0f, 0.0f, 1.0f};
+    const glm::vec3 wo = glm::normalize(eye - seen);
+    for (pt::Material walls : materials) {
+        walls.emission = glm::vec3(1.0f);
+        const restir::GlossyBsdf bsdf = walls.bsdf();
+        restir::test::RunningStats albedo[3], radiance[3];
+        restir::Pcg32 rng;
+        rng.seed(7u, 11u);
+        for (int i = 0; i < 1 << 22; ++i) {
+            const float u_lobe = next_float(rng), u0 = next_float(rng), u1 = next_float(rng);
+            const restir::BsdfSample b = bsdf.sample(normal, wo, u_lobe, u0, u1);
+            for (int c = 0; c < 3; ++c)
+                albedo[c].add(b.pdf > 0.0f ? static_cast<double>(b.weight[c]) : 0.0);
+        }
+        pt::Scene scene = furnace_of(walls);
+        scene.camera = pt::CameraSetup{eye, seen, {0.0f, 1.0f, 0.0f}, 30.0f};
+        pt::RenderSettings s = tiny(scene, 1);
+        s.method = Method::reference;
+        s.gi = GlobalIllumination::none;
+        s.spp = 64;
+        pt::Renderer renderer(scene, s);
+        for (int frame = 0; frame < 400; ++frame) {
+            renderer.render_frame();
+            for (int c = 0; c < 3; ++c)
+                radiance[c].add(static_cast<double>(renderer.last_frame().pixels[0][c]));
+        }
+        for (int c = 0; c < 3; ++c) {
+            const double error = std::abs(radiance[c].mean() - (1.0 + albedo[c].mean()));
+            const double se = std::hypot(radiance[c].standard_error(), albedo[c].standard_error());
+            std::printf("glossy furnace (metallic %.1f), channel %d: %.5f, expected %.5f +- %.5f\n",
+                        static_cast<double>(walls.metallic), c, radiance[c].mean(),
+                        1.0 + albedo[c].mean(), se);
+            EXPECT_LT(error, 4.0 * se) << "metallic " << walls.metallic << ", channel " << c;
+        }
     }
 }
 
