@@ -57,16 +57,6 @@ struct CandidateCounts {
 };
 
 namespace detail {
-/// `point` as a sample in the area measure: its intensity is the radiance itself (no
-/// 1 / area_pdf folded in), so p-hat is Le f G and the densities below are per unit area.
-template <LightPoint P>
-RESTIR_HOST_DEVICE LightPointSample area_measure_sample(std::uint32_t light_id, const P& point,
-                                                        const Falloff& falloff) {
-    LightSample unit = to_light_sample(point);
-    unit.area_pdf = 1.0f;
-    return make_light_point_sample(light_id, unit, falloff);
-}
-
 /// Density per unit area of the BSDF strategy at a point of an area light: the solid-angle pdf
 /// times |cos theta_light| / d^2.
 template <SamplingReceiver R>
@@ -89,15 +79,17 @@ RESTIR_HOST_DEVICE float bsdf_area_pdf(const R& receiver, glm::vec3 point, glm::
 /// (Lin et al. 2022, Eq. 3.4; `resample_ris_mis`): in the area measure, with x a point on a light,
 ///   w_i = p-hat(x_i) / (M_light p_light(x_i) + M_bsdf p_bsdf(x_i)),
 ///   p_light(x) = pmf(light at `at`) area_pdf(x),  p_bsdf(x) = pdf_wi(x) |cos theta_light| / d^2,
-/// p-hat(x) = fold_channels<Norm>(unshadowed_radiance(x, receiver)) = |Le f G|, W = w_sum /
-/// p-hat(y). Delta lights (points, VPLs) are in the counting measure with p_bsdf = 0: a BSDF ray
-/// never hits them, so their MIS weight is 1 for light candidates, and RIS stays unbiased for
-/// them through the light strategy alone (as it does for area lights outside every BSDF lobe).
+/// p-hat(x) = |Le f G| (fold_channels<Norm>), W = w_sum / p-hat(y). Delta lights (points, VPLs) are
+/// in the counting measure with p_bsdf = 0: a BSDF ray never hits them, so their MIS weight is 1
+/// for light candidates, and RIS stays unbiased for them through the light strategy alone (as it
+/// does for area lights outside every BSDF lobe).
 ///
-/// The returned samples carry the radiance itself as intensity (the area measure), not the
-/// radiance / area_pdf of `make_light_point_sample`: shade with
-/// `unshadowed_radiance(sample, receiver) * W` as for any reservoir. Both conventions mix freely
-/// in reuse, since a sample's scale cancels between its p-hat and its W everywhere.
+/// The samples are made by `make_light_point_sample` from the light set's own point (intensity
+/// radiance / area_pdf, as every other candidate and a packed history's decoder have them), so
+/// the stored p-hat and W are those of the primary sample space, p-hat / area_pdf and W
+/// area_pdf: f(y) W is the same. Shade with `unshadowed_radiance(sample, receiver) * W` as for
+/// any reservoir. A hit's `point.area_pdf` must be positive (an emitter that the light set
+/// cannot sample is not supported).
 /// Uses 3 + 2 numbers per light candidate, 3 per BSDF candidate, 1 per candidate to stream.
 template <ChannelNorm Norm = ChannelNorm::sum, UniformRng Rng, ContextLightSampler Sampler,
           LightSet Lights, SamplingReceiver R, LightHitQuery Query>
@@ -122,12 +114,12 @@ resample_lights_and_bsdf(Rng& rng, const CandidateCounts& counts, const Sampler&
             const auto point = lights.sample_point(choice.index, glm::vec2(u, v));
             const bool is_delta = static_cast<bool>(point.is_delta);
             const float area_pdf = is_delta ? 1.0f : static_cast<float>(point.area_pdf);
-            x = detail::area_measure_sample(choice.index, point, falloff);
-            target_value = target(x);
+            x = make_light_point_sample(choice.index, point, falloff);
+            target_value = target(x); // p-hat / area_pdf
             const float p_bsdf =
                 is_delta ? 0.0f : detail::bsdf_area_pdf(receiver, x.position, x.normal);
-            weight = safe_divide(target_value, m_light * choice.pmf * area_pdf + m_bsdf * p_bsdf);
-            weight = area_pdf > 0.0f ? weight : 0.0f;
+            weight = safe_divide(target_value * area_pdf,
+                                 m_light * choice.pmf * area_pdf + m_bsdf * p_bsdf);
         }
         reservoir.stream(x, weight, target_value, next_float(rng));
     }
@@ -142,11 +134,12 @@ resample_lights_and_bsdf(Rng& rng, const CandidateCounts& counts, const Sampler&
         if (direction.pdf > 0.0f) {
             const LightHit hit = query.find_light(glm::vec3(receiver.position), direction.wi);
             if (hit.found && !hit.point.is_delta) {
-                x = detail::area_measure_sample(hit.light_id, hit.point, falloff);
-                target_value = target(x);
-                const float p_light = sampler.pmf(at, hit.light_id) * hit.point.area_pdf;
+                const float area_pdf = static_cast<float>(hit.point.area_pdf);
+                x = make_light_point_sample(hit.light_id, hit.point, falloff);
+                target_value = target(x); // p-hat / area_pdf
+                const float p_light = sampler.pmf(at, hit.light_id) * area_pdf;
                 const float p_bsdf = detail::bsdf_area_pdf(receiver, x.position, x.normal);
-                weight = safe_divide(target_value, m_light * p_light + m_bsdf * p_bsdf);
+                weight = safe_divide(target_value * area_pdf, m_light * p_light + m_bsdf * p_bsdf);
             }
         }
         reservoir.stream(x, weight, target_value, next_float(rng));
