@@ -218,9 +218,11 @@ TEST(Materials, BuiltInScenesAreLambertianExceptCornellGlossy) {
     EXPECT_GT(of_triangle(0).specular, 0.0f);
     EXPECT_EQ(of_triangle(glossy.triangle_count() - 1).metallic, 1.0f); // the tall block, last
     // The walls, the ceiling and the light keep the diffuse box's materials.
-    for (std::uint32_t t = 0; t < glossy.triangle_count(); ++t)
-        if (glossy.triangle_materials[t] == diffuse.triangle_materials[t])
+    for (std::uint32_t t = 0; t < glossy.triangle_count(); ++t) {
+        if (glossy.triangle_materials[t] == diffuse.triangle_materials[t]) {
             EXPECT_TRUE(of_triangle(t).is_lambertian()) << t;
+        }
+    }
     EXPECT_EQ(glossy.triangle_materials[2], diffuse.triangle_materials[2]); // the light
 }
 

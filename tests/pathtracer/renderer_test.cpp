@@ -165,9 +165,13 @@ TEST(Renderer, ReferenceConvergesToTheFurnaceRadiance) {
 // in either MIS weight, or a wrong f cos in NEE, shows as a difference.
 TEST(Renderer, ReferenceMatchesTheGlossyFurnacesDirectionalAlbedo) {
     const pt::Material materials[] = {
-        {.albedo = glm::vec3(0.5f), .specular = 0.04f, .roughness = 0.3f},
-        {.albedo = {0.95f, 0.64f, 0.54f}, .roughness = 0.15f, .metallic = 1.0f},
-        {.albedo = {0.2f, 0.6f, 0.9f}, .specular = 0.08f, .roughness = 0.5f, .metallic = 0.5f}};
+        {.name = "dielectric", .albedo = glm::vec3(0.5f), .specular = 0.04f, .roughness = 0.3f},
+        {.name = "copper", .albedo = {0.95f, 0.64f, 0.54f}, .roughness = 0.15f, .metallic = 1.0f},
+        {.name = "half-metal",
+         .albedo = {0.2f, 0.6f, 0.9f},
+         .specular = 0.08f,
+         .roughness = 0.5f,
+         .metallic = 0.5f}};
     // One pixel at the camera's centre sees the wall z = -1 at (-0.9, 0, -1), 66 degrees off
     // its normal.
     const glm::vec3 eye{0.9f, 0.0f, -0.2f}, seen{-0.9f, 0.0f, -1.0f}, normal{0.0f, 0.0f, 1.0f};
