@@ -26,14 +26,14 @@ Reservoir tile_reservoir(const restir::LightTileArrays& from, std::uint32_t tile
     const std::uint32_t group_mask = size / group_size - 1u;
     const std::uint32_t start = rng.next_uint();
     const std::uint32_t stride = rng.next_uint() | 1u;
-    const glm::vec3 channel_weights = s.albedo * restir::inv_pi;
-    const auto picked = restir::resample_ris_batch<group_size>(
-        rng, candidates, [&](std::uint32_t g, restir::CandidateBlock<group_size>& group) {
-            const std::uint32_t first = ((start + g * stride) & group_mask) * group_size;
-            return restir::evaluate_tile_block<group_size, target_norm>(
-                from, tile + first / from.tile_size, first % from.tile_size, s.position, s.normal,
-                channel_weights, group);
-        });
+    const auto picked = with_receiver(s, [&](const auto& receiver) {
+        return restir::resample_ris_batch<group_size>(
+            rng, candidates, [&](std::uint32_t g, restir::CandidateBlock<group_size>& group) {
+                const std::uint32_t first = ((start + g * stride) & group_mask) * group_size;
+                return restir::evaluate_tile_block<group_size, target_norm>(
+                    from, tile + first / from.tile_size, first % from.tile_size, receiver, group);
+            });
+    });
     return picked.with_sample(from.point_sample(picked.sample));
 }
 

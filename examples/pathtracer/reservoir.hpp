@@ -37,22 +37,34 @@ using ReservoirBuffer = std::vector<Reservoir, CacheLineAllocator<Reservoir>>;
 /// summed channel variance of one sample (the channel sum left 6-8 % more error per frame in the
 /// Cornell box, mostly colour noise; luminance would weigh blue 0.07, so a saturated blue light
 /// would be drawn 14 times too rarely). The initial candidates use the same function in its
-/// batch form (restir::evaluate_tile_block with channel weights albedo / pi).
+/// batch form (restir::evaluate_tile_block at the surface's receiver).
 inline constexpr restir::ChannelNorm target_norm = restir::ChannelNorm::euclidean;
+
+/// body(receiver) at surface `s`: a Lambertian surface as restir::LambertianReceiver (the
+/// library's folded diffuse formulas, as fast as before glossy materials), any other with its
+/// GGX + Lambert BSDF seen from `s.wo` (restir::GlossyReceiver).
+template <class Body>
+decltype(auto) with_receiver(const GSurface& s, Body&& body) {
+    if (is_lambertian(s))
+        return body(restir::LambertianReceiver{s.position, s.normal, s.albedo});
+    return body(restir::GlossyReceiver{s.position, s.normal, s.wo, s.bsdf});
+}
 
 /// p-hat of a light point at surface `s`: its unshadowed reflected radiance, folded.
 inline float point_target(const restir::LightPointSample& sample, const GSurface& s) {
-    return restir::fold_channels<target_norm>(
-        s.albedo * restir::inv_pi * restir::unshadowed_irradiance(sample, s.position, s.normal));
+    return with_receiver(s, [&](const auto& receiver) {
+        return restir::fold_channels<target_norm>(restir::unshadowed_radiance(sample, receiver));
+    });
 }
 
 /// f(y) W without visibility, for a reservoir whose sample is known to be visible.
 inline glm::vec3 unshadowed(const Reservoir& reservoir, const GSurface& s) {
     if (!reservoir.has_sample() || !(reservoir.contribution_weight > 0.0f))
         return glm::vec3(0.0f);
-    return s.albedo * restir::inv_pi *
-           restir::unshadowed_irradiance(reservoir.sample, s.position, s.normal) *
-           reservoir.contribution_weight;
+    return with_receiver(s, [&](const auto& receiver) {
+        return restir::unshadowed_radiance(reservoir.sample, receiver) *
+               reservoir.contribution_weight;
+    });
 }
 
 } // namespace pt
