@@ -109,7 +109,7 @@ glm::vec3 PathTracer::path_radiance(const GSurface& start, restir::Pcg32& rng, b
         if (!(bounce.pdf > 0.0f))
             break;
         const glm::vec3 direction = bounce.wi;
-        const Hit hit = rays_.closest_hit(s.position + s.normal * ray_offset_, direction);
+        const Hit hit = rays_.closest_hit_from(s.position, s.normal, direction, ray_offset_);
         if (!hit.found)
             break;
         throughput *= bounce.weight; // f cos / pdf
