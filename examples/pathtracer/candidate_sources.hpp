@@ -48,7 +48,6 @@ public:
             body);
     }
 
-protected:
     /// The tiles that pixel blocks draw from (empty for sources that draw per pixel).
     virtual const restir::LightTileArrays& block_tiles() const;
 };

@@ -174,6 +174,11 @@ void add_light_sampling_options(CLI::App& app, RenderSettings& settings, ReuseFl
     restir::DiFrameParams& frame = settings.di_frame;
     app.add_option("--candidates", settings.candidates, "RIS candidates per pixel (M)")
         ->check(CLI::Range(1u, 4096u));
+    app.add_option("--bsdf-candidates", settings.bsdf_candidates,
+                   "BSDF-sampled candidates per glossy pixel, combined by MIS with --candidates "
+                   "light candidates drawn per pixel by power (0: light candidates from --source "
+                   "alone)")
+        ->check(CLI::Range(0u, 1024u));
     app.add_option("--neighbours", frame.spatial.neighbour_count, "Spatial reuse neighbours (k)")
         ->check(CLI::Range(0u, restir::max_reuse_inputs - 1u));
     app.add_option("--radius", frame.spatial.radius,

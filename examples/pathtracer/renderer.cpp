@@ -1,6 +1,7 @@
 #include "renderer.hpp"
 
 #include "accumulation.hpp"
+#include "bsdf_candidates.hpp"
 #include "camera.hpp"
 #include "candidate_sources.hpp"
 #include "embree_scene.hpp"
@@ -50,7 +51,9 @@ struct Renderer::Impl {
           blocks(settings.width, settings.height, arena),
           gbuffer(scene, rays, blocks, std::size_t{settings.width} * settings.height, ray_offset,
                   settings.antialias, settings.seed),
-          candidates(make_initial_candidates(settings, scene, light_set, blocks)),
+          candidates(
+              with_bsdf_candidates(make_initial_candidates(settings, scene, light_set, blocks),
+                                   settings, rays, light_set, ray_offset)),
           camera(settings.camera, settings.width, settings.height), previous_camera(camera),
           paths(scene, rays, light_set, ray_offset, settings.max_depth),
           accumulation(settings.width, settings.height) {

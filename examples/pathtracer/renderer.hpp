@@ -49,6 +49,10 @@ struct RenderSettings {
                                ///< that error measurements see lighting noise only).
     /// RIS candidates per pixel (ris, restir).
     std::uint32_t candidates = 32;
+    /// BSDF-sampled candidates per glossy pixel (ris, restir), combined with `candidates` light
+    /// candidates drawn per pixel by power (restir::resample_lights_and_bsdf); 0: light
+    /// candidates from `source` alone.
+    std::uint32_t bsdf_candidates = 0;
     /// --source grid: cells along the longest side of the scene's box (the other sides in
     /// cells of about the same size). Finer cells give candidates closer to each pixel's
     /// lights, and cost more cells to fill every frame (docs/performance.md).

@@ -1,0 +1,80 @@
+#include "bsdf_candidates.hpp"
+
+#include <utility>
+
+namespace pt {
+
+namespace {
+
+// The emitter a BSDF ray finds: the inverse of TriangleEmitters::sample_point (a uniform point
+// by area, so the light candidates' density there is 1 / area).
+struct EmitterHits {
+    const EmbreeScene* rays;
+    const TriangleEmitters* emitters;
+    glm::vec3 normal;
+    float ray_offset;
+
+    restir::LightHit find_light(glm::vec3 origin, glm::vec3 direction) const {
+        const Hit hit = rays->closest_hit_from(origin, normal, direction, ray_offset);
+        if (!hit.found)
+            return {};
+        const std::uint32_t emitter = emitters->emitter_of_triangle(hit.triangle);
+        if (emitter == TriangleEmitters::none)
+            return {};
+        restir::LightHit light{true, emitter, {}};
+        light.point.position = hit.position;
+        light.point.normal = hit.normal;
+        // One-sided: the back of an emitter sends nothing.
+        light.point.radiance =
+            glm::dot(hit.normal, direction) < 0.0f ? emitters->radiance(emitter) : glm::vec3(0.0f);
+        light.point.area_pdf = 1.0f / emitters->area(emitter);
+        return light;
+    }
+};
+
+class BsdfCandidates final : public InitialCandidates {
+public:
+    BsdfCandidates(std::unique_ptr<InitialCandidates> source, const RenderSettings& settings,
+                   const EmbreeScene& rays, const LightSet& lights, float ray_offset)
+        : source_(std::move(source)), counts_{settings.candidates, settings.bsdf_candidates},
+          rays_(rays), lights_(lights), ray_offset_(ray_offset) {}
+
+    void use_light_set() override { source_->use_light_set(); }
+    void prepare_frame(std::uint32_t frame_index, std::span<const GSurface> surfaces) override {
+        source_->prepare_frame(frame_index, surfaces);
+    }
+
+    Reservoir initial_reservoir(std::uint32_t x, std::uint32_t y, std::uint32_t frame_index,
+                                const GSurface& s, restir::Pcg32& rng) const override {
+        if (is_lambertian(s))
+            return source_->initial_reservoir(x, y, frame_index, s, rng);
+        const restir::PowerLightSampler sampler{lights_.power_table().view()};
+        const restir::ShadingPoint at{s.position, s.normal, 0.0f};
+        const restir::GlossyReceiver receiver{s.position, s.normal, s.wo, s.bsdf};
+        const EmitterHits hits{&rays_, &lights_.emitters(), s.normal, ray_offset_};
+        return restir::resample_lights_and_bsdf<target_norm>(
+            rng, counts_, sampler, at, lights_.lights(), lights_.falloff(), receiver, hits);
+    }
+
+    const restir::LightTileArrays& block_tiles() const override { return source_->block_tiles(); }
+
+private:
+    std::unique_ptr<InitialCandidates> source_;
+    restir::CandidateCounts counts_;
+    const EmbreeScene& rays_;
+    const LightSet& lights_;
+    float ray_offset_;
+};
+
+} // namespace
+
+std::unique_ptr<InitialCandidates> with_bsdf_candidates(std::unique_ptr<InitialCandidates> source,
+                                                        const RenderSettings& settings,
+                                                        const EmbreeScene& rays,
+                                                        const LightSet& lights, float ray_offset) {
+    if (settings.bsdf_candidates == 0u)
+        return source;
+    return std::make_unique<BsdfCandidates>(std::move(source), settings, rays, lights, ray_offset);
+}
+
+} // namespace pt
