@@ -280,6 +280,26 @@ double relative_mean_difference(const Image& image, const Image& reference) {
     return total > 0.0 ? difference / total : 0.0;
 }
 
+double masked_mse(const Image& image, const Image& other, const std::vector<std::uint8_t>& mask) {
+    check_same_size(image, other);
+    if (!mask.empty() && mask.size() != image.pixels.size())
+        throw ImageError("the mask has " + std::to_string(mask.size()) + " pixels, the image " +
+                         std::to_string(image.pixels.size()));
+    double sum = 0.0;
+    std::size_t counted = 0;
+    for (std::size_t i = 0; i < image.pixels.size(); ++i) {
+        if (!mask.empty() && mask[i] == 0u)
+            continue;
+        for (int c = 0; c < 3; ++c) {
+            const double d =
+                static_cast<double>(image.pixels[i][c]) - static_cast<double>(other.pixels[i][c]);
+            sum += d * d;
+        }
+        ++counted;
+    }
+    return counted == 0 ? 0.0 : sum / (3.0 * static_cast<double>(counted));
+}
+
 double relative_mse(const Image& image, const Image& reference) {
     check_same_size(image, reference);
     if (image.pixels.empty()) {

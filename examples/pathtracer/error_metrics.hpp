@@ -28,6 +28,13 @@ double rmse(const Image& image, const Image& reference);
 /// pixels; 0 for a black reference. Same size required (ImageError otherwise).
 double relative_mean_difference(const Image& image, const Image& reference);
 
+/// Mean squared difference over the pixels where `mask` is non-zero and their channels (every
+/// pixel with an empty mask); 0 when no pixel counts. Same size required, and a mask of the
+/// images' pixel count or empty (ImageError otherwise). Against a reference it is a masked MSE;
+/// between two consecutive frames of a static camera, twice the per-pixel frame-to-frame
+/// variance: the flicker of the image.
+double masked_mse(const Image& image, const Image& other, const std::vector<std::uint8_t>& mask);
+
 /// Relative mean squared error: the mean over pixels and channels of e^2 / (r^2 + 0.01), e the
 /// error and r the reference's value. The 0.01 keeps black reference pixels from dominating.
 /// Same size required (ImageError otherwise).

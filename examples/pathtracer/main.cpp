@@ -70,6 +70,30 @@ std::string error_columns(const pt::Image& image, const std::optional<pt::Image>
     return columns;
 }
 
+// The CSV's glossy and flicker columns: over the glossy pixels, the MSE of the accumulated
+// image and of the frame alone against the reference (empty without one), and the flicker, the
+// mean squared difference between this frame and the last over every pixel and over the glossy
+// ones (static camera: twice the per-pixel frame-to-frame variance; empty in the first frame).
+constexpr const char* glossy_header = "mse_glossy,frame_mse_glossy,flicker,flicker_glossy";
+
+std::string glossy_columns(const pt::Renderer& renderer, const std::optional<pt::Image>& reference,
+                           const std::optional<pt::Image>& previous_frame) {
+    const std::vector<std::uint8_t> glossy = renderer.glossy_pixels();
+    std::string columns;
+    if (reference)
+        columns = number(pt::masked_mse(renderer.accumulated(), *reference, glossy)) + "," +
+                  number(pt::masked_mse(renderer.last_frame(), *reference, glossy));
+    else
+        columns = ",";
+    columns += ",";
+    if (previous_frame)
+        columns += number(pt::masked_mse(renderer.last_frame(), *previous_frame, {})) + "," +
+                   number(pt::masked_mse(renderer.last_frame(), *previous_frame, glossy));
+    else
+        columns += ",";
+    return columns;
+}
+
 // --- The camera ------------------------------------------------------------------------------
 
 // The scene's camera (or one framing its bounds) with the flags' changes, checked.
@@ -126,7 +150,7 @@ std::ofstream open_csv(const std::string& path) {
         fail("cannot write " + path);
     csv << "frame,rmse,frame_rmse,frame_ms,elapsed_ms,primary_ms,photons_ms,candidates_ms,"
            "temporal_ms,spatial_ms,shading_ms,tiles_ms,bias,frame_bias,"
-        << error_header() << '\n';
+        << error_header() << ',' << glossy_header << '\n';
     return csv;
 }
 
@@ -134,7 +158,7 @@ std::ofstream open_csv(const std::string& path) {
 // the accumulated image and of the frame alone.
 void report_frame(std::uint32_t frame, const pt::FrameTimings& t, double elapsed,
                   const pt::Renderer& renderer, const std::optional<pt::Image>& reference,
-                  std::ofstream& csv) {
+                  const std::optional<pt::Image>& previous_frame, std::ofstream& csv) {
     std::string error, frame_error, bias, frame_bias;
     if (reference) {
         error = std::to_string(pt::rmse(renderer.accumulated(), *reference));
@@ -152,7 +176,8 @@ void report_frame(std::uint32_t frame, const pt::FrameTimings& t, double elapsed
         csv << frame << ',' << error << ',' << frame_error << ',' << t.total << ',' << elapsed
             << ',' << t.primary << ',' << t.photons << ',' << t.candidates << ',' << t.temporal
             << ',' << t.spatial << ',' << t.shading << ',' << t.tiles << ',' << bias << ','
-            << frame_bias << ',' << error_columns(renderer.accumulated(), reference) << '\n';
+            << frame_bias << ',' << error_columns(renderer.accumulated(), reference) << ','
+            << glossy_columns(renderer, reference, previous_frame) << '\n';
 }
 
 // --- The frames ------------------------------------------------------------------------------
@@ -162,10 +187,13 @@ void render_frames(pt::Renderer& renderer, const pt::RenderOptions& options,
                    const std::optional<pt::Image>& reference, std::ofstream& csv) {
     const bool interactive = isatty(fileno(stderr)) != 0;
     double elapsed = 0.0;
+    std::optional<pt::Image> previous_frame; // for the flicker columns
     for (std::uint32_t f = 0; f < options.frames; ++f) {
         const pt::FrameTimings t = renderer.render_frame();
         elapsed += t.total;
-        report_frame(f + 1, t, elapsed, renderer, reference, csv);
+        report_frame(f + 1, t, elapsed, renderer, reference, previous_frame, csv);
+        if (csv)
+            previous_frame = renderer.last_frame();
         if (interactive)
             progress(f + 1, options.frames, t.total);
     }

@@ -141,6 +141,9 @@ public:
     /// Pixels whose primary ray found a surface in the last frame (the pixels that sample
     /// lights; per-pixel costs in docs/performance.md are per such pixel).
     std::size_t surface_pixel_count() const;
+    /// 1 for each pixel whose surface in the last frame is glossy (a specular lobe), else 0:
+    /// the pixels of the CSV's glossy columns.
+    std::vector<std::uint8_t> glossy_pixels() const;
     /// Emissive triangles of the scene (degenerate ones emit nothing and are left out).
     std::uint32_t emitter_count() const;
 

@@ -108,6 +108,17 @@ TEST(Metrics, RmseRelMseAndBiasOfHandComputedImages) {
     EXPECT_EQ(pt::relative_mse(ones, ones), 0.0);
 }
 
+TEST(Metrics, MaskedMseCountsTheMaskedPixelsOnly) {
+    Image a = filled(2, 2, glm::vec3(1.0f));
+    const Image b = filled(2, 2, glm::vec3(0.0f));
+    a.pixels[3] = glm::vec3(3.0f, 0.0f, 0.0f); // squared differences 9, 0, 0; the others 1, 1, 1
+    EXPECT_DOUBLE_EQ(pt::masked_mse(a, b, {}), (9.0 + 9.0) / 12.0);
+    EXPECT_DOUBLE_EQ(pt::masked_mse(a, b, {0u, 0u, 0u, 1u}), 3.0);
+    EXPECT_DOUBLE_EQ(pt::masked_mse(a, b, {1u, 0u, 0u, 0u}), 1.0);
+    EXPECT_DOUBLE_EQ(pt::masked_mse(a, b, {0u, 0u, 0u, 0u}), 0.0);
+    EXPECT_THROW(pt::masked_mse(a, b, {1u, 1u}), pt::ImageError);
+}
+
 TEST(Metrics, ImagesOfDifferentSizesThrowAOneLineError) {
     const Image a(4, 3);
     const Image b(3, 4);
