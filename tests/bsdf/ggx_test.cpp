@@ -115,8 +115,9 @@ TEST(BsdfGgx, DistributionIsNormalised) {
         EXPECT_NEAR(q2.integrate(all), 1.0, 1e-4) << "alpha " << alpha;
         // From a float cosine, D is a step function on steps of 6e-8 in cos theta, too
         // coarse for the narrowest lobe: only from roughness 0.05 up.
-        if (alpha >= 0.0025f)
+        if (alpha >= 0.0025f) {
             EXPECT_NEAR(q1.integrate(all), 1.0, 1e-4) << "alpha " << alpha;
+        }
     }
 }
 

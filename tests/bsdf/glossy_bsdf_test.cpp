@@ -296,10 +296,11 @@ TEST(BsdfGlossy, RotatedNormalGivesTheZUpValues) {
                 const BsdfSample s =
                     bsdf.sample(n_r, wo_r, next_float(rng), next_float(rng), next_float(rng));
                 const glm::vec3 wi_back = rotate.inverse()(s.wi);
-                if (s.pdf > 0.0f)
+                if (s.pdf > 0.0f) {
                     EXPECT_LE(
                         relative_difference(glm::vec3(bsdf.pdf(up, wo, wi_back)), glm::vec3(s.pdf)),
                         rotation_tolerance(roughness, wo, wi_back));
+                }
             }
 }
 
@@ -315,10 +316,11 @@ TEST(BsdfGlossy, ZeroF0IsExactlyLambertian) {
             const glm::vec3 n = random_unit(rng), wo = random_unit(rng), wi = random_unit(rng);
             const float cos_i = glm::dot(n, wi);
             const glm::vec3 lambert = albedo * (1.0f / restir::pi) * cos_i;
-            if (glm::dot(n, wo) > 0.0f && cos_i > 0.0f)
+            if (glm::dot(n, wo) > 0.0f && cos_i > 0.0f) {
                 ASSERT_EQ(bsdf.evaluate_cos(n, wo, wi), lambert);
-            else
+            } else {
                 ASSERT_EQ(bsdf.evaluate_cos(n, wo, wi), glm::vec3(0.0f));
+            }
             if (!(glm::dot(n, wo) > 0.0f))
                 continue;
             EXPECT_EQ(bsdf.specular_probability(n, wo), 0.0f);

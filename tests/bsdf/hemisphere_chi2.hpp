@@ -34,9 +34,10 @@ inline glm::vec3 hemisphere_direction(double cos_theta, double phi) {
 
 /// Adaptive quadrature of a density over cells of the hemisphere, with dw = d(cos theta)
 /// d(phi). A cell is split along its longer side (in angle) until a 4 x 4 Gauss-Legendre rule
-/// on it agrees with the rule on its halves, and in any case while it is larger than a
-/// quarter of `scale` and within 40 `scale` of `peak`, so that a lobe narrower than the
-/// first rule's nodes cannot be missed.
+/// on it agrees with the rule on its halves, and in any case while its radius is above a
+/// quarter of its distance to `peak` or of `scale`, whichever is larger: cells shrink
+/// geometrically towards the peak, so that a lobe narrower than the first rule's nodes cannot
+/// be missed.
 template <class Density>
 class HemisphereQuadrature {
 public:
@@ -75,34 +76,39 @@ private:
         const double phi_extent = sin_max * (c.phi1 - c.phi0);
         const bool split_cos = theta_extent >= 0.5 * phi_extent;
         const bool split_phi = phi_extent >= 0.5 * theta_extent;
-        std::vector<HemisphereCell> parts{c};
+        // Up to four parts: halves in cos theta, then each halved in phi.
+        std::array<HemisphereCell, 4> parts{c};
+        std::size_t count = 1;
         if (split_cos) {
             const double mid = 0.5 * (c.cos0 + c.cos1);
-            parts = {{c.cos0, mid, c.phi0, c.phi1}, {mid, c.cos1, c.phi0, c.phi1}};
+            parts[0] = {c.cos0, mid, c.phi0, c.phi1};
+            parts[1] = {mid, c.cos1, c.phi0, c.phi1};
+            count = 2;
         }
         if (split_phi) {
-            std::vector<HemisphereCell> halves;
-            for (const HemisphereCell& p : parts) {
+            for (std::size_t i = count; i-- > 0;) {
+                const HemisphereCell p = parts[i];
                 const double mid = 0.5 * (p.phi0 + p.phi1);
-                halves.push_back({p.cos0, p.cos1, p.phi0, mid});
-                halves.push_back({p.cos0, p.cos1, mid, p.phi1});
+                parts[2 * i] = {p.cos0, p.cos1, p.phi0, mid};
+                parts[2 * i + 1] = {p.cos0, p.cos1, mid, p.phi1};
             }
-            parts = halves;
+            count *= 2;
         }
-        std::vector<double> values;
+        std::array<double, 4> values{};
         double fine = 0.0;
-        for (const HemisphereCell& p : parts) {
-            values.push_back(rule(p));
-            fine += values.back();
+        for (std::size_t i = 0; i < count; ++i) {
+            values[i] = rule(parts[i]);
+            fine += values[i];
         }
         const double radius = 0.5 * std::hypot(theta_extent, phi_extent);
-        const bool near_peak = radius > 0.25 * scale_ && angle_to_peak(c) < radius + 40.0 * scale_;
+        const double gap = std::max(angle_to_peak(c) - radius, 0.0);
+        const bool near_peak = radius > 0.25 * std::max(gap, scale_);
         const bool converged = std::abs(fine - whole) <=
                                std::max(absolute_tolerance, relative_tolerance * std::abs(fine));
         if (depth >= max_depth || (converged && !near_peak))
             return fine;
         double sum = 0.0;
-        for (std::size_t i = 0; i < parts.size(); ++i)
+        for (std::size_t i = 0; i < count; ++i)
             sum += refine(parts[i], values[i], depth + 1);
         return sum;
     }
