@@ -1,5 +1,7 @@
 #include "path_tracer.hpp"
 
+#include "reservoir.hpp"
+
 #include <glm/geometric.hpp>
 
 #include <algorithm>
@@ -35,15 +37,14 @@ float bounce_pdf(const GSurface& s, glm::vec3 wi) {
 
 } // namespace
 
-glm::vec3 PathTracer::reflected(const GSurface& s, const restir::LightSample& light,
-                                glm::vec3 to_light) const {
+glm::vec3 PathTracer::reflected(const GSurface& s, const restir::LightSample& light) const {
     if (is_lambertian(s))
         return s.albedo * restir::inv_pi *
                restir::unshadowed_irradiance(light, s.position, s.normal, lights_.falloff());
-    // f cos times the irradiance on a plane facing the light (its "normal" is `to_light`, so
-    // that the receiver's cosine is 1 and the BSDF's cos(theta_i) takes its place).
-    return s.bsdf.evaluate_cos(s.normal, s.wo, to_light) *
-           restir::unshadowed_irradiance(light, s.position, to_light, lights_.falloff());
+    // The same function as the light samples' target and shading (reservoir.hpp), VPLs with
+    // their regularised lobe, so that the reference of a VPL set is that set's integrand.
+    return restir::unshadowed_radiance(
+        restir::make_light_point_sample(0u, light, lights_.falloff()), glossy_receiver(s));
 }
 
 bool PathTracer::visible(const restir::LightSampleRef& ref, const GSurface& s) const {
@@ -73,7 +74,7 @@ bool PathTracer::visible(const restir::LightSampleRef& ref, const GSurface& s) c
         return glm::vec3(0.0f);
     const float light_pdf = c.pmf * light.area_pdf * d2 / cos_light; // solid angle
     const float bsdf_pdf = bounce_pdf(s, w);
-    return reflected(s, light, w) / c.pmf * (light_pdf / (light_pdf + bsdf_pdf));
+    return reflected(s, light) / c.pmf * (light_pdf / (light_pdf + bsdf_pdf));
 }
 
 glm::vec3 PathTracer::vpl_nee(const GSurface& s, restir::Pcg32& rng) const {
@@ -87,11 +88,7 @@ glm::vec3 PathTracer::vpl_nee(const GSurface& s, restir::Pcg32& rng) const {
     if (!visible(ref, s))
         return glm::vec3(0.0f);
     const restir::LightSample vpl = lights_.lights().sample_point(ref.light_id, ref.uv);
-    const glm::vec3 offset = vpl.position - s.position;
-    const float distance = glm::length(offset);
-    if (!(distance > 0.0f))
-        return glm::vec3(0.0f);
-    return reflected(s, vpl, offset / distance) / c.pmf;
+    return reflected(s, vpl) / c.pmf;
 }
 
 glm::vec3 PathTracer::path_radiance(const GSurface& start, restir::Pcg32& rng, bool direct,

@@ -36,10 +36,8 @@ public:
 
 private:
     glm::vec3 emitter_nee(const GSurface& s, restir::Pcg32& rng) const;
-    /// Light of a point `light` (unshadowed) reflected at `s` towards s.wo; `to_light` is the
-    /// unit direction from s to it.
-    glm::vec3 reflected(const GSurface& s, const restir::LightSample& light,
-                        glm::vec3 to_light) const;
+    /// Light of a point `light` (unshadowed) reflected at `s` towards s.wo.
+    glm::vec3 reflected(const GSurface& s, const restir::LightSample& light) const;
     bool visible(const restir::LightSampleRef& ref, const GSurface& s) const;
 
     const Scene& scene_;

@@ -40,6 +40,17 @@ using ReservoirBuffer = std::vector<Reservoir, CacheLineAllocator<Reservoir>>;
 /// batch form (restir::evaluate_tile_block at the surface's receiver).
 inline constexpr restir::ChannelNorm target_norm = restir::ChannelNorm::euclidean;
 
+/// The smallest GGX alpha (roughness 0.5) with which VPLs, spheres of Yuksel's radius, light a
+/// glossy surface (restir::GlossyReceiver::sphere_min_alpha): a regularisation, biased as the
+/// falloff is, without which a narrow lobe shows single VPLs as sparkles that light candidates
+/// rarely find (docs/noise-and-bias.md). Emitters light every surface through its own BSDF.
+inline constexpr float vpl_min_alpha = 0.25f;
+
+/// Surface `s` as a glossy receiver, seen from `s.wo`.
+inline restir::GlossyReceiver glossy_receiver(const GSurface& s) {
+    return {s.position, s.normal, s.wo, s.bsdf, vpl_min_alpha};
+}
+
 /// body(receiver) at surface `s`: a Lambertian surface as restir::LambertianReceiver (the
 /// library's folded diffuse formulas, as fast as before glossy materials), any other with its
 /// GGX + Lambert BSDF seen from `s.wo` (restir::GlossyReceiver).
@@ -47,7 +58,7 @@ template <class Body>
 decltype(auto) with_receiver(const GSurface& s, Body&& body) {
     if (is_lambertian(s))
         return body(restir::LambertianReceiver{s.position, s.normal, s.albedo});
-    return body(restir::GlossyReceiver{s.position, s.normal, s.wo, s.bsdf});
+    return body(glossy_receiver(s));
 }
 
 /// p-hat of a light point at surface `s`: its unshadowed reflected radiance, folded.

@@ -163,3 +163,45 @@ TEST(Receiver, BatchTargetsAreEachEntrysRadiance) {
 }
 
 } // namespace
+
+namespace {
+
+// A glossy receiver widens its lobe for lights with a sphere radius (VPLs with Yuksel's falloff)
+// and for nothing else: an area light's point and an exact point light see the BSDF itself.
+TEST(Receiver, GlossyLobeWidensForSpheresOnly) {
+    restir::GlossyReceiver receiver{
+        {0.0f, 0.0f, 0.0f},
+        {0.0f, 1.0f, 0.0f},
+        glm::normalize(glm::vec3(-1.0f, 1.0f, 0.0f)),
+        restir::GlossyBsdf::from_metallic_roughness(glm::vec3(0.9f), 1.0f, 0.1f),
+        0.25f};
+    const glm::vec3 mirror = glm::normalize(glm::vec3(1.0f, 1.0f, 0.0f)); // the lobe's peak
+    const glm::vec3 peak = receiver.reflected(mirror);
+    EXPECT_EQ(receiver.reflected(mirror, 0.0f), peak);
+    // alpha 0.01 widened to at least 0.25: the peak falls by far.
+    EXPECT_LT(receiver.reflected(mirror, 0.01f).x, 0.1f * peak.x);
+    receiver.sphere_min_alpha = 0.0f; // Karis's widening alone: alpha + 0.5 * 0.02
+    const glm::vec3 widened = receiver.reflected(mirror, 0.02f);
+    EXPECT_LT(widened.x, peak.x);
+    EXPECT_GT(widened.x, 0.1f * peak.x);
+
+    restir::LightSample light;
+    light.position = 2.0f * mirror;
+    light.normal = -mirror;
+    light.radiance = glm::vec3(1.0f);
+    light.area_pdf = 1.0f;
+    light.is_delta = true;
+    receiver.sphere_min_alpha = 0.25f;
+    const float sharp =
+        restir::unshadowed_radiance(
+            restir::make_light_point_sample(0u, light, restir::Falloff::exact()), receiver)
+            .x;
+    EXPECT_NEAR(sharp, peak.x * 0.25f, 1e-5f * sharp); // cos 1, 1 / d^2
+    const float sphere =
+        restir::unshadowed_radiance(
+            restir::make_light_point_sample(0u, light, restir::Falloff::yuksel(0.1f)), receiver)
+            .x;
+    EXPECT_LT(sphere, 0.1f * sharp);
+}
+
+} // namespace

@@ -3,10 +3,13 @@
 /// target loop and BSDF-sampled candidates evaluate at a glossy pixel.
 #pragma once
 
+#include "restir/bsdf/ggx.hpp"
 #include "restir/bsdf/glossy_bsdf.hpp"
 #include "restir/config.hpp"
+#include "restir/core/math.hpp"
 #include "restir/light/receiver.hpp"
 
+#include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
 namespace restir {
@@ -17,10 +20,30 @@ struct GlossyReceiver {
     glm::vec3 normal{0.0f, 0.0f, 1.0f}; ///< Unit shading normal.
     glm::vec3 wo{0.0f, 0.0f, 1.0f};     ///< Unit, towards the viewer.
     GlossyBsdf bsdf{};
+    /// The smallest GGX alpha with which light from a sphere (a point light with Yuksel's
+    /// falloff, a VPL) is reflected: a regularisation (biased, like the falloff) against the
+    /// sparkles of point lights in a narrow lobe, which light candidates rarely find and BSDF
+    /// rays never hit (Kaplanyan and Dachsbacher 2013 regularise such paths by widening the
+    /// lobe). 0: none.
+    float sphere_min_alpha = 0.0f;
 
     /// f(wo, wi) max(0, n.wi) (`GlossyBsdf::evaluate_cos`: branch-free, for the batch loop).
     RESTIR_HOST_DEVICE glm::vec3 reflected(glm::vec3 wi) const {
         return bsdf.evaluate_cos(normal, wo, wi);
+    }
+    /// The same for light from a sphere of angular radius `sphere_radius` (its radius over its
+    /// distance; 0 for a point of an area light): the specular lobe widened as a sphere light
+    /// widens it, alpha + sphere_radius / 2 (Karis 2013, "Real Shading in Unreal Engine 4"), and
+    /// to at least `sphere_min_alpha`.
+    RESTIR_HOST_DEVICE glm::vec3 reflected(glm::vec3 wi, float sphere_radius) const {
+        const float alpha = ggx_alpha(bsdf.roughness);
+        const float widened = max_of(alpha + 0.5f * sphere_radius, sphere_min_alpha);
+        const glm::vec3 h = wo + wi;
+        const glm::vec3 n_cross_h = glm::cross(normal, h);
+        return glossy_evaluate_cos(bsdf.diffuse_albedo, bsdf.specular_f0,
+                                   sphere_radius > 0.0f ? min_of(widened, 1.0f) : alpha,
+                                   glm::dot(normal, wo), glm::dot(normal, wi), glm::dot(h, h),
+                                   glm::dot(n_cross_h, n_cross_h));
     }
     /// A direction from the BSDF's lobes (`GlossyBsdf::sample`).
     RESTIR_HOST_DEVICE DirectionSample sample_direction(float u_lobe, float u0, float u1) const {

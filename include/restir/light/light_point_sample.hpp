@@ -156,7 +156,8 @@ RESTIR_HOST_DEVICE glm::vec3 unshadowed_radiance(const LightPointSample& s, cons
         const float factor = folded_arrival_factor(
             x.x, x.y, x.z, s.normal.x, s.normal.y, s.normal.z, isotropic ? 1.0f : 0.0f,
             max_of(s.falloff, 0.0f), max_of(-s.falloff, 0.0f), inverse_distance);
-        return s.intensity * glm::vec3(receiver.reflected(x * inverse_distance)) * factor;
+        const float sphere_radius = std::sqrt(max_of(s.falloff, 0.0f)) * inverse_distance;
+        return s.intensity * reflected_from(receiver, x * inverse_distance, sphere_radius) * factor;
     }
 }
 

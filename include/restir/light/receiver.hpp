@@ -21,6 +21,11 @@ namespace restir {
 ///                         the cosine at the receiver, per colour channel (0 below the surface).
 /// The batch target loop (`evaluate_tile_block`) calls `reflected` once per candidate in a
 /// plain loop: written without branches, it vectorises with the loop.
+/// Optional: `r.reflected(wi, sphere_radius)` -> glm::vec3, the same for light from a sphere of
+/// angular radius `sphere_radius` (radius / distance): the library calls it instead, with 0
+/// for points of area lights and isotropic points without a radius, and r / d for point lights
+/// with Yuksel's falloff of radius r (VPLs), so that a glossy receiver may widen its lobe for
+/// them (`GlossyReceiver::sphere_min_alpha`).
 template <class R>
 concept Receiver = requires(const R& r, glm::vec3 wi) {
     { r.position } -> std::convertible_to<glm::vec3>;
@@ -59,5 +64,15 @@ struct LambertianReceiver {
 };
 
 static_assert(Receiver<LambertianReceiver>);
+
+/// `receiver.reflected(wi, sphere_radius)` where the receiver has it, else
+/// `receiver.reflected(wi)`.
+template <Receiver R>
+RESTIR_HOST_DEVICE glm::vec3 reflected_from(const R& receiver, glm::vec3 wi, float sphere_radius) {
+    if constexpr (requires { receiver.reflected(wi, sphere_radius); })
+        return receiver.reflected(wi, sphere_radius);
+    else
+        return receiver.reflected(wi);
+}
 
 } // namespace restir

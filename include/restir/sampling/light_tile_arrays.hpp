@@ -164,7 +164,9 @@ RESTIR_HOST_DEVICE float tile_entry_radiance_target(const Value& value, glm::vec
         value(TilePlane::isotropic), value(TilePlane::yuksel_radius_squared),
         value(TilePlane::min_distance_squared), inverse_distance);
     const glm::vec3 wi{x * inverse_distance, y * inverse_distance, z * inverse_distance};
-    const glm::vec3 f = receiver.reflected(wi);
+    const float sphere_radius =
+        std::sqrt(value(TilePlane::yuksel_radius_squared)) * inverse_distance;
+    const glm::vec3 f = reflected_from(receiver, wi, sphere_radius);
     const float v =
         fold_channels<Norm>({f.x * value(TilePlane::radiance_r), f.y * value(TilePlane::radiance_g),
                              f.z * value(TilePlane::radiance_b)}) *
