@@ -39,6 +39,10 @@ inline float surface_depth(const GSurface& s) { return s.depth; }
 inline bool is_valid_surface(const GSurface& s) { return s.valid; }
 /// True when the surface reflects as albedo / pi alone (no specular lobe).
 inline bool is_lambertian(const GSurface& s) { return s.bsdf.specular_f0 == glm::vec3(0.0f); }
+/// Perceptual roughness, 1 for a Lambertian surface (restir::SimilarRoughness reads it).
+inline float surface_roughness(const GSurface& s) {
+    return is_lambertian(s) ? 1.0f : s.bsdf.roughness;
+}
 
 /// The surface that a ray travelling along `direction` (unit) found, seen from -direction;
 /// emission only on an emitter's front side.

@@ -179,6 +179,11 @@ void add_light_sampling_options(CLI::App& app, RenderSettings& settings, ReuseFl
                    "light candidates drawn per pixel by power (0: light candidates from --source "
                    "alone)")
         ->check(CLI::Range(0u, 1024u));
+    app.add_option("--max-roughness-difference", settings.max_roughness_difference,
+                   "Reuse takes a neighbour's or the history's sample only where its surface's "
+                   "roughness is within this of the pixel's (Lambertian surfaces count as 1; 1 "
+                   "accepts every pair)")
+        ->check(CLI::Range(0.0f, 1.0f));
     app.add_option("--neighbours", frame.spatial.neighbour_count, "Spatial reuse neighbours (k)")
         ->check(CLI::Range(0u, restir::max_reuse_inputs - 1u));
     app.add_option("--radius", frame.spatial.radius,

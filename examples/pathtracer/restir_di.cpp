@@ -181,7 +181,7 @@ struct RestirDi::Stages {
         };
         const restir::ReuseBridge bridge{
             [](const restir::LightPointSample& x, const GSurface& s) { return point_target(x, s); },
-            gbuffer.shadow_packets()};
+            gbuffer.shadow_packets(), restir::SimilarRoughness{settings.max_roughness_difference}};
         restir::run_di_frame(f, buffers, timed_tiles(f.frame_index, t), initial, bridge, rng_for,
                              shade);
     }

@@ -28,6 +28,8 @@ glm::vec3 surface_position(const Point&) { return glm::vec3(0.0f); }
 glm::vec3 surface_normal(const Point& p) { return p.normal; }
 float surface_depth(const Point& p) { return p.depth; }
 bool is_valid_surface(const Point& p) { return p.valid; }
+// Material m has roughness m / 10 (0: a mirror; 10: Lambertian).
+float surface_roughness(const Point& p) { return static_cast<float>(p.material) / 10.0f; }
 
 struct LightId {
     std::uint32_t id = 0u;
@@ -100,6 +102,19 @@ TEST(Similarity, NormalDepthValidityAndMaterialHook) {
     EXPECT_FALSE(
         restir::surfaces_similar(receiver, Point{{0, 0, 1}, 1.0f, true, 7}, params, same_material));
     EXPECT_TRUE(restir::surfaces_similar(receiver, Point{}, params, same_material));
+}
+
+TEST(Similarity, RoughnessHookAcceptsLobesOfSimilarWidthOnly) {
+    const restir::SimilarityParams params = restir::default_similarity_params();
+    const restir::SimilarRoughness roughness{0.2f};
+    const Point glossy{{0, 0, 1}, 1.0f, true, 1}; // roughness 0.1
+    EXPECT_TRUE(
+        restir::surfaces_similar(glossy, Point{{0, 0, 1}, 1.0f, true, 2}, params, roughness));
+    EXPECT_FALSE(
+        restir::surfaces_similar(glossy, Point{{0, 0, 1}, 1.0f, true, 4}, params, roughness));
+    EXPECT_FALSE(
+        restir::surfaces_similar(Point{{0, 0, 1}, 1.0f, true, 10}, glossy, params, roughness));
+    EXPECT_TRUE(restir::surfaces_similar(glossy, glossy, params, restir::SimilarRoughness{0.0f}));
 }
 
 // The previous-frame buffers of a 3 x 1 image.

@@ -92,6 +92,8 @@ struct ReuseBridge {
 
 template <class Target, class Visibility>
 ReuseBridge(Target, Visibility) -> ReuseBridge<Target, Visibility, AnyMaterial>;
+template <class Target, class Visibility, class MaterialTest>
+ReuseBridge(Target, Visibility, MaterialTest) -> ReuseBridge<Target, Visibility, MaterialTest>;
 
 namespace detail {
 

@@ -1,7 +1,8 @@
 /// @file reuse/similarity.hpp
 /// When a neighbour's (or the previous frame's) surface is close enough to the receiver's for
 /// its reservoir to be reused: the geometric tests of Bitterli et al. 2020, Sec. 6 (normals
-/// within 25 degrees, depths within 10 %), plus an optional hook for materials.
+/// within 25 degrees, depths within 10 %), plus an optional hook for materials (one for
+/// roughness, `SimilarRoughness`).
 #pragma once
 
 #include "restir/concepts.hpp"
@@ -27,6 +28,21 @@ struct AnyMaterial {
     template <class S>
     RESTIR_HOST_DEVICE constexpr bool operator()(const S&, const S&) const noexcept {
         return true;
+    }
+};
+
+/// A material hook for glossy surfaces: accepts a neighbour whose roughness is within
+/// `max_difference` of the receiver's, so that a narrow lobe does not take samples chosen for a
+/// much wider one, nor the reverse (the lobe mismatch behind flicker on glossy surfaces). Reads
+/// `surface_roughness(s)`, found by argument-dependent lookup: perceptual roughness in [0, 1],
+/// 1 for a Lambertian surface.
+struct SimilarRoughness {
+    float max_difference = 0.2f;
+
+    template <class S>
+    RESTIR_HOST_DEVICE bool operator()(const S& receiver, const S& candidate) const {
+        const float d = surface_roughness(receiver) - surface_roughness(candidate);
+        return (d < 0.0f ? -d : d) <= max_difference;
     }
 };
 
