@@ -456,3 +456,34 @@ __global__ void solid_angle_kernel(const glm::vec3* corners, float* out) {
              restir::spherical_rectangle_solid_angle(from, a, b - a, c - a) + sphere.pdf +
              restir::sphere_cone_pdf(from, a, 0.25f);
 }
+
+// Glossy receivers: the batch target loop at a GlossyReceiver (with the widened lobe of VPL
+// spheres), and multi-strategy RIS over light and BSDF candidates with an emitter query.
+struct NoEmitterHit {
+    RESTIR_HOST_DEVICE restir::LightHit find_light(glm::vec3, glm::vec3) const { return {}; }
+};
+
+__global__ void glossy_receiver_kernel(float* planes, restir::LightSampleRef* references,
+                                       const glm::vec3* emitters, std::uint32_t emitter_count,
+                                       const restir::AliasEntry* alias_entries, float* out) {
+    const auto i = static_cast<std::uint32_t>(blockIdx.x * blockDim.x + threadIdx.x);
+    const restir::LightTileArrays tiles{planes, references, 4u, 64u};
+    restir::Pcg32 rng = restir::make_pixel_rng(i, 0u, restir::RngStream::application);
+    const PointEmitters lights{emitters, emitter_count};
+    const restir::PowerLightSampler sampler{restir::AliasTableView{alias_entries, emitter_count}};
+    const restir::GlossyReceiver receiver{
+        glm::vec3(static_cast<float>(i), 0.0f, 0.0f), glm::vec3(0.0f, 1.0f, 0.0f),
+        glm::normalize(glm::vec3(0.3f, 1.0f, 0.1f)),
+        restir::GlossyBsdf::from_metallic_roughness(glm::vec3(0.9f), 1.0f, 0.2f), 0.25f};
+    const restir::Reservoir<std::uint32_t> picked = restir::resample_ris_batch<8u>(
+        rng, 32u, [&](std::uint32_t b, restir::CandidateBlock<8u>& block) {
+            return restir::evaluate_tile_block<8u, restir::ChannelNorm::euclidean>(
+                tiles, i % 4u, (b % 8u) * 8u, receiver, block);
+        });
+    const restir::ShadingPoint at{receiver.position, receiver.normal, 0.0f};
+    const restir::Reservoir<restir::LightPointSample> mixed =
+        restir::resample_lights_and_bsdf(rng, {8u, 2u}, sampler, at, lights,
+                                         restir::Falloff::yuksel(0.05f), receiver, NoEmitterHit{});
+    out[i] = picked.contribution_weight +
+             mixed.contribution_weight * restir::unshadowed_radiance(mixed.sample, receiver).x;
+}
