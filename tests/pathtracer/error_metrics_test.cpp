@@ -108,6 +108,19 @@ TEST(Metrics, RmseRelMseAndBiasOfHandComputedImages) {
     EXPECT_EQ(pt::relative_mse(ones, ones), 0.0);
 }
 
+TEST(Metrics, WorstPixelsShareOfTheSquaredErrorOfHandComputedImages) {
+    const Image reference = filled(4, 1, glm::vec3(1.0f));
+    Image image = reference;
+    EXPECT_EQ(pt::worst_pixels_error_share(image, reference, 1), 0.0); // no error
+    // Squared errors per pixel (channel sums): 3 * 9 = 27, 3 * 1 = 3, 0, 0.
+    image.pixels[2] = glm::vec3(4.0f);
+    image.pixels[0] = glm::vec3(0.0f);
+    EXPECT_DOUBLE_EQ(pt::worst_pixels_error_share(image, reference, 1), 27.0 / 30.0);
+    EXPECT_DOUBLE_EQ(pt::worst_pixels_error_share(image, reference, 2), 1.0);
+    EXPECT_DOUBLE_EQ(pt::worst_pixels_error_share(image, reference, 20), 1.0); // more than pixels
+    EXPECT_EQ(pt::worst_pixels_error_share(image, reference, 0), 0.0);
+}
+
 TEST(Metrics, ImagesOfDifferentSizesThrowAOneLineError) {
     const Image a(4, 3);
     const Image b(3, 4);
@@ -126,6 +139,7 @@ TEST(Metrics, ImagesOfDifferentSizesThrowAOneLineError) {
     expect_throw([&] { pt::relative_mse(a, b); });
     expect_throw([&] { pt::error_autocorrelation(a, b); });
     expect_throw([&] { pt::row_structure_of_error(a, b); });
+    expect_throw([&] { pt::worst_pixels_error_share(a, b, 20); });
     expect_throw([&] { pt::firefly_measure(a, b); });
 
     Image broken(4, 3);
