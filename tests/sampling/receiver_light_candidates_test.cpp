@@ -99,7 +99,7 @@ double polygon_irradiance(const std::vector<glm::dvec3>& vertices, glm::vec3 at)
         const double theta = std::atan2(glm::length(glm::cross(v0, v1)), glm::dot(v0, v1));
         sum += theta * glm::dot(glm::dvec3(receiver_normal), glm::normalize(glm::cross(v0, v1)));
     }
-    return -0.5 * radiance * sum;
+    return -0.5 * static_cast<double>(radiance) * sum;
 }
 
 // The triangle clipped to the receiver's upper half space (Sutherland-Hodgman), in order.
@@ -126,7 +126,8 @@ double exact_irradiance(glm::vec3 at = receiver) {
         e += polygon_irradiance(clipped_above(t, at), at);
     const glm::dvec3 x = glm::dvec3(point_light) - glm::dvec3(at);
     const double d2 = glm::dot(x, x);
-    e += point_intensity * glm::dot(glm::dvec3(receiver_normal), x) / (d2 * std::sqrt(d2));
+    e += static_cast<double>(point_intensity) * glm::dot(glm::dvec3(receiver_normal), x) /
+         (d2 * std::sqrt(d2));
     return 3.0 * e;
 }
 
@@ -162,7 +163,7 @@ TEST(ReceiverLightCandidates, RisWithPointsFromTheReceiverIsUnbiasedNextToALight
                 return restir::draw_receiver_light_candidate(sampler, lights, receiver, falloff, g);
             },
             Target{});
-        stats.add(estimate(r));
+        stats.add(static_cast<double>(estimate(r)));
         largest = std::fmax(largest, estimate(r));
     }
     EXPECT_TRUE(restir::test::agrees_with(stats, exact_irradiance()));
@@ -203,9 +204,10 @@ RunningStats redrawn_estimates(glm::vec3 at, bool with_coverage) {
                                                        triangles[id].c, at, receiver_normal)
                 : 1.0f;
         const float u = next_float(rng), v = next_float(rng);
-        stats.add(estimate(restir::redraw_point_from_receiver(chosen, coverage, lights,
-                                                              glm::vec2(u, v), at, falloff, target),
-                           target));
+        stats.add(static_cast<double>(
+            estimate(restir::redraw_point_from_receiver(chosen, coverage, lights, glm::vec2(u, v),
+                                                        at, falloff, target),
+                     target)));
     }
     return stats;
 }
@@ -254,7 +256,7 @@ TEST(ReceiverLightCandidates, AreaFractionAboveAPlaneMatchesUniformAreaSamples) 
         const float fraction = restir::triangle_area_fraction_above(t.a, t.b, t.c, point, normal);
         EXPECT_GT(fraction, 0.0f);
         EXPECT_LT(fraction, 1.0f);
-        EXPECT_TRUE(restir::test::agrees_with(stats, fraction));
+        EXPECT_TRUE(restir::test::agrees_with(stats, static_cast<double>(fraction)));
     }
 }
 
