@@ -37,6 +37,31 @@ Reservoir tile_reservoir(const restir::LightTileArrays& from, std::uint32_t tile
     return picked.with_sample(from.point_sample(picked.sample));
 }
 
+// `chosen` (RIS over a light tile at surface `s`) with its emitter point drawn again, uniform in
+// the solid angle the emitter subtends from `s` (--light-points solid-angle), where that pays
+// off (TriangleEmitters::redraw_pays_off). Unbiased by the argument of
+// restir::redraw_point_from_receiver, for each emitter either kept or redrawn by a rule of the
+// emitter and the surface alone (never of the tile's point): the tiles' target is positive
+// exactly on the part of a one-sided emitter triangle above the surface's tangent plane, so the
+// coverage that divides W is that part's share of its area (1 where the rule redraws). Redrawing
+// everywhere doubled the error in the Cornell box: at a grazing part of an emitter the area
+// point's target is small, and W, which divides by it, no longer cancels against the new
+// point's contribution (docs/noise-and-bias.md). VPLs keep their point.
+Reservoir with_point_from_surface(const Reservoir& chosen, const LightSet& lights,
+                                  const GSurface& s, restir::Pcg32& rng) {
+    if (!chosen.has_sample())
+        return chosen;
+    const float u = next_float(rng); // named: the order of the draws is fixed
+    const float v = next_float(rng);
+    const std::uint32_t id = chosen.sample.light_id;
+    if (lights.lights().is_vpl(id) || !lights.emitters().redraw_pays_off(id, s.position, s.normal))
+        return chosen;
+    const float coverage = lights.emitters().area_fraction_above(id, s.position, s.normal);
+    return restir::redraw_point_from_receiver(
+        chosen, coverage, lights.lights(), glm::vec2(u, v), s.position, lights.falloff(),
+        [&](const restir::LightPointSample& x) { return point_target(x, s); });
+}
+
 // Presampled light tiles (power, uniform), refilled for every frame (and sample), in the
 // structure-of-arrays layout of batch RIS: candidates come from one tile per 8 x 8 pixel
 // block, which stays in cache. (Tiles of 256 lights for 16 x 16 pixel blocks were 15 % faster
@@ -78,8 +103,12 @@ public:
     // RIS over the tile of the pixel's block.
     Reservoir initial_reservoir(std::uint32_t x, std::uint32_t y, std::uint32_t frame_index,
                                 const GSurface& s, restir::Pcg32& rng) const override {
-        return tile_reservoir(tiles_, tiles_.tile_for(blocks_.block_of(x, y), frame_index),
-                              tile_size, settings_.candidates, s, rng);
+        const Reservoir chosen =
+            tile_reservoir(tiles_, tiles_.tile_for(blocks_.block_of(x, y), frame_index), tile_size,
+                           settings_.candidates, s, rng);
+        return settings_.light_points == LightPoints::solid_angle
+                   ? with_point_from_surface(chosen, lights_, s, rng)
+                   : chosen;
     }
 
 protected:
@@ -148,6 +177,9 @@ Reservoir BvhCandidates::bvh_reservoir(const GSurface& s, restir::Pcg32& rng) co
             const restir::DiscreteSample choice =
                 ready > 0u ? drawn[batch - ready--] : restir::sample_light(bvh, at, g);
             ++taken;
+            if (settings_.light_points == LightPoints::solid_angle)
+                return restir::with_receiver_point(choice, lights_.lights(), s.position,
+                                                   lights_.falloff(), g);
             const restir::SourceSample<restir::LightSampleRef> c =
                 restir::with_uniform_point(choice, g);
             restir::SourceSample<restir::LightPointSample> candidate{{}, c.pdf};

@@ -28,6 +28,7 @@ void print_errors(const pt::Image& image, const pt::Image& reference) {
     const pt::FireflyMeasure fireflies = pt::firefly_measure(image, reference);
     std::printf("fireflies %llu\n", static_cast<unsigned long long>(fireflies.count));
     print("p999", fireflies.p999);
+    print("worst20_share", pt::worst_pixels_error_share(image, reference, 20));
     const pt::RowStructure rows = pt::row_structure_of_error(image, reference);
     print("row_ratio", rows.row_ratio);
     print("column_ratio", rows.column_ratio);
@@ -47,7 +48,8 @@ int main(int argc, char** argv) {
     bool back_wall = false;
 
     CLI::App app{"restir-compare: error measures of IMAGE against a reference (rmse, bias, "
-                 "rel_mse, fireflies, p999, row/column_ratio and acf_x/acf_y 1-8 of the error), "
+                 "rel_mse, fireflies, p999, worst20_share (the 20 worst pixels' share of the "
+                 "squared error), row/column_ratio and acf_x/acf_y 1-8 of the error), "
                  "and image_row_ratio/image_column_ratio, the row structure of IMAGE itself in "
                  "a region, one `name value` line each"};
     app.add_option("image", image_path, "The image to measure (.exr or .pfm)")->required();

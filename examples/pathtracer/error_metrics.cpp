@@ -266,6 +266,27 @@ double rmse(const Image& image, const Image& reference) {
     return std::sqrt(sum / (3.0 * static_cast<double>(image.pixels.size())));
 }
 
+double worst_pixels_error_share(const Image& image, const Image& reference, std::size_t count) {
+    check_same_size(image, reference);
+    std::vector<double> squared(image.pixels.size(), 0.0);
+    double total = 0.0;
+    for (std::size_t i = 0; i < image.pixels.size(); ++i) {
+        for (int c = 0; c < 3; ++c) {
+            const double d = static_cast<double>(image.pixels[i][c]) -
+                             static_cast<double>(reference.pixels[i][c]);
+            squared[i] += d * d;
+        }
+        total += squared[i];
+    }
+    const std::size_t kept = std::min(count, squared.size());
+    std::partial_sort(squared.begin(), squared.begin() + static_cast<std::ptrdiff_t>(kept),
+                      squared.end(), std::greater<>());
+    double worst = 0.0;
+    for (std::size_t i = 0; i < kept; ++i)
+        worst += squared[i];
+    return total > 0.0 ? worst / total : 0.0;
+}
+
 double relative_mean_difference(const Image& image, const Image& reference) {
     check_same_size(image, reference);
     double difference = 0.0;

@@ -6,6 +6,7 @@
 
 #include "image_io.hpp"
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -93,6 +94,12 @@ struct FireflyMeasure {
 
 /// See FireflyMeasure. Same size required (ImageError otherwise).
 FireflyMeasure firefly_measure(const Image& image, const Image& reference);
+
+/// The share of the total squared error (summed over the channels) that the `count` pixels
+/// with the largest squared error hold, in [0, 1]: near count / pixels for even noise, near 1
+/// when a few fireflies carry it. 0 for an image equal to the reference. Same size required
+/// (ImageError otherwise).
+double worst_pixels_error_share(const Image& image, const Image& reference, std::size_t count);
 
 /// The back wall of the built-in Cornell box (`--scene cornell`) at its own camera, between
 /// the ceiling and the tall box: x in [0.25, 0.75) of the width, y in [0.25, 0.39) of the

@@ -1,17 +1,20 @@
-// The scene's emissive triangles as a restir::LightSet: uniform points on each triangle, one
-// light per triangle.
+// The scene's emissive triangles as a restir::ReceiverLightSet: uniform points on each triangle
+// (or uniform in the solid angle it subtends from a receiver), one light per triangle.
 #pragma once
 
 #include "scene.hpp"
 
 #include <restir/light/light_bvh.hpp>
 #include <restir/light/light_sample.hpp>
+#include <restir/light/solid_angle.hpp>
+#include <restir/light/triangle_light.hpp>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -55,6 +58,49 @@ public:
         s.area_pdf = 1.0f / e.area;
         s.is_delta = false;
         return s;
+    }
+
+    /// restir::ReceiverLightSet: a point of emitter `id` uniform in the solid angle it subtends
+    /// from `from` (Arvo; by area where it subtends less than restir::min_solid_angle_for_arvo),
+    /// with its density per unit area.
+    restir::LightSample sample_point(std::uint32_t id, glm::vec2 uv, glm::vec3 from) const {
+        const Emitter& e = triangles_[id];
+        const restir::SolidAngleSample drawn =
+            restir::sample_triangle_from(from, e.a, e.a + e.ab, e.a + e.ac, uv);
+        restir::LightSample s;
+        s.position = drawn.point;
+        s.normal = e.normal;
+        s.radiance = e.radiance;
+        s.area_pdf = restir::solid_angle_to_area_pdf(drawn.pdf, from, drawn.point, e.normal);
+        s.is_delta = false;
+        return s;
+    }
+    /// The share of emitter `id`'s area above the plane through `position` with normal
+    /// `normal`: where a surface there sees it.
+    float area_fraction_above(std::uint32_t id, glm::vec3 position, glm::vec3 normal) const {
+        const Emitter& e = triangles_[id];
+        return restir::triangle_area_fraction_above(e.a, e.a + e.ab, e.a + e.ac, position, normal);
+    }
+
+    /// Whether a point of emitter `id` drawn again from a surface at `position` (normal
+    /// `normal`) pays off (candidate_sources.cpp): the emitter lies wholly above the surface's
+    /// tangent plane with receiver cosines at its vertices within a factor 2 of each other (no
+    /// grazing part, where the area point's small target would make the redrawn estimate
+    /// large), and it is near: its vertices' squared distances differ by more than a factor 4
+    /// (far away, area points are as good). Depends on the emitter and the surface only.
+    bool redraw_pays_off(std::uint32_t id, glm::vec3 position, glm::vec3 normal) const {
+        const Emitter& e = triangles_[id];
+        const glm::vec3 v[3] = {e.a - position, e.a + e.ab - position, e.a + e.ac - position};
+        float d2[3], cosine[3];
+        for (int k = 0; k < 3; ++k) {
+            d2[k] = glm::dot(v[k], v[k]);
+            cosine[k] = glm::dot(normal, v[k]) / std::sqrt(d2[k]);
+        }
+        const float min_d2 = std::min({d2[0], d2[1], d2[2]});
+        const float max_d2 = std::max({d2[0], d2[1], d2[2]});
+        const float min_cos = std::min({cosine[0], cosine[1], cosine[2]});
+        const float max_cos = std::max({cosine[0], cosine[1], cosine[2]});
+        return min_cos > 0.0f && 2.0f * min_cos >= max_cos && max_d2 > 4.0f * min_d2;
     }
 
     /// The emitter index of triangle `t`, or `none`.

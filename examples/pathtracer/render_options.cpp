@@ -237,6 +237,17 @@ void add_light_sampling_options(CLI::App& app, RenderSettings& settings, ReuseFl
         ->check(CLI::Range(1u, 256u));
 }
 
+// How candidates' points on emitters are drawn.
+void add_light_point_options(CLI::App& app, RenderSettings& settings) {
+    app.add_option("--light-points", settings.light_points,
+                   "Points on emitters of ris/restir candidates: area (uniform in area) or "
+                   "solid-angle (uniform in the solid angle seen from the pixel: no fireflies "
+                   "next to lights; light tiles draw the chosen candidate's point again)")
+        ->transform(names<LightPoints>(
+            {{"area", LightPoints::area}, {"solid-angle", LightPoints::solid_angle}}))
+        ->default_str("area");
+}
+
 // Indirect light: the VPLs' photons and the path tracer's depth. The photons' seed is
 // --vpl-seed, or --seed without it: `vpl_seed` holds it until parsing ends.
 void add_indirect_light_options(CLI::App& app, RenderSettings& settings,
@@ -301,6 +312,7 @@ std::optional<RenderOptions> parse_render_options(int argc, const char* const* a
     add_output_options(app, options);
     ReuseFlags reuse_flags;
     add_light_sampling_options(app, settings, reuse_flags);
+    add_light_point_options(app, settings);
     add_indirect_light_options(app, settings, vpl_seed);
     try {
         app.parse(argc, argv);

@@ -73,8 +73,11 @@ struct Renderer::Impl {
         if (!(c.pmf > 0.0f))
             return reservoir;
         const restir::LightSampleRef ref{c.index, {u, v}};
+        const bool from_surface = settings.light_points == LightPoints::solid_angle;
         const restir::LightPointSample sample = restir::make_light_point_sample(
-            ref.light_id, light_set.lights().sample_point(ref.light_id, ref.uv),
+            ref.light_id,
+            from_surface ? light_set.lights().sample_point(ref.light_id, ref.uv, s.position)
+                         : light_set.lights().sample_point(ref.light_id, ref.uv),
             light_set.falloff());
         const float target = point_target(sample, s);
         reservoir.stream(sample, target / c.pmf, target, 0.0f);

@@ -29,6 +29,10 @@ enum class GlobalIllumination {
 /// drawn per pixel), or by their importance in the pixel's cell of a world-space grid (tiles
 /// per cell resampled from power-proportional candidates every frame, ReGIR; `grid_cells`).
 enum class CandidateSource { power, uniform, bvh, grid };
+/// How the point on an emitter of a RIS candidate is drawn: uniformly in its area, or uniformly
+/// in the solid angle it subtends from the pixel's surface (restir::sample_triangle_from; the
+/// light tiles keep area points and draw the chosen candidate's point again).
+enum class LightPoints { area, solid_angle };
 /// A still camera, or one that turns about its look-at point a little every frame.
 enum class CameraMotion { none, orbit };
 
@@ -41,6 +45,7 @@ struct RenderSettings {
     Method method = Method::restir;
     GlobalIllumination gi = GlobalIllumination::vpl;
     CandidateSource source = CandidateSource::power;
+    LightPoints light_points = LightPoints::area;
     std::uint64_t seed = 0;
     CameraSetup camera{};
     CameraMotion motion = CameraMotion::none;

@@ -110,6 +110,25 @@ concept LightSet = requires(const L& lights, std::uint32_t id, glm::vec2 uv) {
     { lights.sample_point(id, uv) } -> LightPoint;
 };
 
+/// A light set that also draws a light's point from a receiver, so that the points fall where
+/// the light covers the receiver's view (uniform in the solid angle it subtends, say) and a
+/// light next to the receiver gives bounded candidates. Required expressions, besides those of
+/// `LightSet`, for a `glm::vec3 from`:
+///   `lights.sample_point(id, uv, from)` -> a LightPoint: the point of light `id` that `uv` in
+///        [0, 1)^2 maps to for a receiver at `from`, deterministic in (id, uv, from); its
+///        `area_pdf` is the density per unit area of that map at the point (a solid-angle
+///        density through `solid_angle_to_area_pdf`), 0 where the map gives no point. Every
+///        point of the light that `from` sees must have a positive density. Delta lights (VPLs,
+///        point lights) ignore `from` and `uv`.
+/// A sample's intensity, radiance / area_pdf, then depends on the receiver that drew it: that
+/// scale cancels between the sample's p-hat and its W in RIS and in every reuse pass, which
+/// evaluate p-hat with the stored intensity (docs/bridge.md).
+template <class L>
+concept ReceiverLightSet = LightSet<L> &&
+    requires(const L& lights, std::uint32_t id, glm::vec2 uv, glm::vec3 from) {
+    { lights.sample_point(id, uv, from) } -> LightPoint;
+};
+
 /// Visibility between two points. Required expression:
 ///   `query.occluded(from, to)` -> bool, true when anything blocks the open segment
 ///   (the caller offsets the end points off their surfaces).

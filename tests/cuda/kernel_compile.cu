@@ -454,7 +454,8 @@ __global__ void solid_angle_kernel(const glm::vec3* corners, float* out) {
              restir::rectangle_pdf_from(from, a, b - a, c - a, rectangle.point) +
              restir::spherical_triangle_solid_angle(from, a, b, c) +
              restir::spherical_rectangle_solid_angle(from, a, b - a, c - a) + sphere.pdf +
-             restir::sphere_cone_pdf(from, a, 0.25f);
+             restir::sphere_cone_pdf(from, a, 0.25f) +
+             restir::triangle_area_fraction_above(a, b, c, from, normal);
 }
 
 // Glossy receivers: the batch target loop at a GlossyReceiver (with the widened lobe of VPL

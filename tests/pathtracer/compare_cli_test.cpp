@@ -94,7 +94,7 @@ TEST(CompareCli, PrintsEveryMeasureAgainstAReference) {
     const Outcome r =
         run(pair.image_path.string() + " --reference " + pair.reference_path.string());
     ASSERT_EQ(r.status, 0) << r.err;
-    EXPECT_EQ(r.lines, 25);
+    EXPECT_EQ(r.lines, 26);
     expect_close(r, "rmse", pt::rmse(pair.image, pair.reference));
     expect_close(r, "bias", pt::relative_mean_difference(pair.image, pair.reference));
     expect_close(r, "rel_mse", pt::relative_mse(pair.image, pair.reference));
@@ -102,6 +102,7 @@ TEST(CompareCli, PrintsEveryMeasureAgainstAReference) {
     EXPECT_EQ(fireflies.count, 1u);
     expect_close(r, "fireflies", static_cast<double>(fireflies.count));
     expect_close(r, "p999", fireflies.p999);
+    expect_close(r, "worst20_share", pt::worst_pixels_error_share(pair.image, pair.reference, 20));
     const pt::RowStructure rows = pt::row_structure_of_error(pair.image, pair.reference);
     expect_close(r, "row_ratio", rows.row_ratio);
     expect_close(r, "column_ratio", rows.column_ratio);

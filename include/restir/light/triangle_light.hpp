@@ -74,4 +74,30 @@ RESTIR_HOST_DEVICE inline float triangle_pdf_from(glm::vec3 from, glm::vec3 a, g
     return area_to_solid_angle_pdf(2.0f / double_area, from, point, normal / double_area);
 }
 
+/// The fraction of the area of the triangle `a`, `b`, `c` strictly above the plane through
+/// `plane_point` with normal `plane_normal` (where dot(plane_normal, x - plane_point) > 0): the
+/// share of a uniform area sample's points that a receiver there can see, in [0, 1]. With the
+/// signed heights h of the vertices, a linear function over the triangle, the part on the
+/// lone vertex v's side is the triangle cut at the edges' zeros, of area fraction
+/// h_v^2 / ((h_v - h_1)(h_v - h_2)).
+RESTIR_HOST_DEVICE inline float triangle_area_fraction_above(glm::vec3 a, glm::vec3 b, glm::vec3 c,
+                                                             glm::vec3 plane_point,
+                                                             glm::vec3 plane_normal) {
+    const float ha = glm::dot(plane_normal, a - plane_point);
+    const float hb = glm::dot(plane_normal, b - plane_point);
+    const float hc = glm::dot(plane_normal, c - plane_point);
+    const int above = (ha > 0.0f ? 1 : 0) + (hb > 0.0f ? 1 : 0) + (hc > 0.0f ? 1 : 0);
+    if (above == 0 || above == 3)
+        return above == 0 ? 0.0f : 1.0f;
+    // The lone vertex: the one above when one is, the one not above when two are.
+    const bool lone_a = (ha > 0.0f) == (above == 1);
+    const bool lone_b = !lone_a && (hb > 0.0f) == (above == 1);
+    const float lone = lone_a ? ha : lone_b ? hb : hc;
+    const float first = lone_a ? hb : ha;
+    const float second = lone_a || lone_b ? hc : hb;
+    const float corner =
+        min_of(max_of(safe_divide(lone * lone, (lone - first) * (lone - second)), 0.0f), 1.0f);
+    return above == 1 ? corner : 1.0f - corner;
+}
+
 } // namespace restir

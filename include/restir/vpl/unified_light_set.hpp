@@ -10,6 +10,7 @@
 #include "restir/vpl/vpl.hpp"
 
 #include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
 
 #include <cstdint>
 #include <vector>
@@ -36,6 +37,16 @@ struct UnifiedLightSet {
         if (id >= emitter_total)
             return vpl_light_sample(vpls[id - emitter_total]);
         return to_light_sample(emitters->sample_point(id, uv));
+    }
+
+    /// The emitter's point for `uv` drawn from the receiver at `from` (`ReceiverLightSet`), or
+    /// the VPL, which stays a point. Only when the emitter set draws points from receivers.
+    RESTIR_HOST_DEVICE LightSample sample_point(
+        std::uint32_t id, glm::vec2 uv, glm::vec3 from) const requires ReceiverLightSet<Emitters> {
+        const std::uint32_t emitter_total = emitter_count();
+        if (id >= emitter_total)
+            return vpl_light_sample(vpls[id - emitter_total]);
+        return to_light_sample(emitters->sample_point(id, uv, from));
     }
 };
 
