@@ -174,16 +174,6 @@ void add_light_sampling_options(CLI::App& app, RenderSettings& settings, ReuseFl
     restir::DiFrameParams& frame = settings.di_frame;
     app.add_option("--candidates", settings.candidates, "RIS candidates per pixel (M)")
         ->check(CLI::Range(1u, 4096u));
-    app.add_option("--bsdf-candidates", settings.bsdf_candidates,
-                   "BSDF-sampled candidates per glossy pixel, combined by MIS with --candidates "
-                   "light candidates drawn per pixel by power (0: light candidates from --source "
-                   "alone)")
-        ->check(CLI::Range(0u, 1024u));
-    app.add_option("--max-roughness-difference", settings.max_roughness_difference,
-                   "Reuse takes a neighbour's or the history's sample only where its surface's "
-                   "roughness is within this of the pixel's (Lambertian surfaces count as 1; 1 "
-                   "accepts every pair)")
-        ->check(CLI::Range(0.0f, 1.0f));
     app.add_option("--neighbours", frame.spatial.neighbour_count, "Spatial reuse neighbours (k)")
         ->check(CLI::Range(0u, restir::max_reuse_inputs - 1u));
     app.add_option("--radius", frame.spatial.radius,
@@ -235,6 +225,20 @@ void add_light_sampling_options(CLI::App& app, RenderSettings& settings, ReuseFl
                    "sides in cells of about that size); 32 suits the many-lights scene, 8 the "
                    "Cornell boxes (docs/performance.md)")
         ->check(CLI::Range(1u, 256u));
+}
+
+// Sampling and reuse at glossy surfaces.
+void add_glossy_options(CLI::App& app, RenderSettings& settings) {
+    app.add_option("--bsdf-candidates", settings.bsdf_candidates,
+                   "BSDF-sampled candidates per glossy pixel, combined by MIS with --candidates "
+                   "light candidates drawn per pixel by power (0: light candidates from --source "
+                   "alone)")
+        ->check(CLI::Range(0u, 1024u));
+    app.add_option("--max-roughness-difference", settings.max_roughness_difference,
+                   "Reuse takes a neighbour's or the history's sample only where its surface's "
+                   "roughness is within this of the pixel's (Lambertian surfaces count as 1; 1 "
+                   "accepts every pair)")
+        ->check(CLI::Range(0.0f, 1.0f));
 }
 
 // How candidates' points on emitters are drawn.
@@ -313,6 +317,7 @@ std::optional<RenderOptions> parse_render_options(int argc, const char* const* a
     ReuseFlags reuse_flags;
     add_light_sampling_options(app, settings, reuse_flags);
     add_light_point_options(app, settings);
+    add_glossy_options(app, settings);
     add_indirect_light_options(app, settings, vpl_seed);
     try {
         app.parse(argc, argv);
