@@ -531,3 +531,59 @@ TEST(Renderer, ReferenceAgreesWithRisUnderALightCloseToTheFloor) {
                 brightness[0].mean(), brightness[1].mean(), difference, error);
     EXPECT_LT(difference, 4.0 * error);
 }
+
+namespace {
+
+// The glossy pixels' mean brightness (channel sums) of `frames` frames.
+double glossy_brightness(const pt::Scene& scene, const pt::RenderSettings& settings,
+                         std::uint32_t frames) {
+    pt::Renderer renderer(scene, settings);
+    for (std::uint32_t f = 0; f < frames; ++f)
+        renderer.render_frame();
+    const std::vector<std::uint8_t> glossy = renderer.glossy_pixels();
+    double sum = 0.0;
+    for (std::size_t i = 0; i < glossy.size(); ++i)
+        if (glossy[i] != 0u) {
+            const glm::vec3 p = renderer.accumulated().pixels[i];
+            sum += static_cast<double>(p.x + p.y + p.z);
+        }
+    return sum;
+}
+
+} // namespace
+
+// On the glossy Cornell box, ReSTIR (tile candidates, and with BSDF candidates) and RIS with
+// BSDF candidates estimate the glossy pixels' direct light as the reference path tracer does:
+// mean brightness within 4 standard errors measured over seeds.
+TEST(Renderer, GlossyCornellBoxAgreesWithTheReference) {
+    const pt::Scene scene = pt::make_glossy_cornell_box();
+    pt::RenderSettings s = tiny(scene, 32);
+    s.gi = GlobalIllumination::none;
+    struct Setup {
+        Method method;
+        std::uint32_t bsdf_candidates;
+        std::uint32_t frames;
+    };
+    const Setup setups[] = {{Method::reference, 0u, 4u},
+                            {Method::restir, 0u, 8u},
+                            {Method::restir, 1u, 8u},
+                            {Method::ris, 2u, 8u}};
+    restir::test::RunningStats brightness[4];
+    for (std::uint64_t seed = 1; seed <= 8; ++seed)
+        for (int k = 0; k < 4; ++k) {
+            s.method = setups[k].method;
+            s.bsdf_candidates = setups[k].bsdf_candidates;
+            s.spp = setups[k].method == Method::reference ? 16u : 1u;
+            s.seed = seed;
+            brightness[k].add(glossy_brightness(scene, s, setups[k].frames));
+        }
+    EXPECT_GT(brightness[0].mean(), 0.0);
+    for (int k = 1; k < 4; ++k) {
+        const double difference = brightness[k].mean() - brightness[0].mean();
+        const double error =
+            std::sqrt(brightness[0].variance() / 8.0 + brightness[k].variance() / 8.0);
+        std::printf("glossy Cornell box, setup %d: %.3f against the reference's %.3f (SE %.3f)\n",
+                    k, brightness[k].mean(), brightness[0].mean(), error);
+        EXPECT_LT(std::abs(difference), 4.0 * error) << "setup " << k;
+    }
+}
