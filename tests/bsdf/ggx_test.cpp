@@ -23,22 +23,10 @@
 namespace {
 
 using restir::Pcg32;
-
-constexpr float roughnesses[] = {0.05f, 0.2f, 0.5f, 1.0f};
-constexpr float view_degrees[] = {0.0f, 45.0f, 80.0f};
-
-/// A unit view at `degrees` from the normal, turned 0.7 rad about it (off every axis).
-glm::vec3 view_at(float degrees) {
-    const float theta = degrees * (std::numbers::pi_v<float> / 180.0f);
-    return {std::sin(theta) * std::cos(0.7f), std::sin(theta) * std::sin(0.7f), std::cos(theta)};
-}
-
-glm::vec3 random_unit(Pcg32& rng) {
-    const float z = 1.0f - 2.0f * next_float(rng);
-    const float r = std::sqrt(std::fmax(0.0f, 1.0f - z * z));
-    const float phi = restir::two_pi * next_float(rng);
-    return {r * std::cos(phi), r * std::sin(phi), z};
-}
+using restir::test::random_unit;
+using restir::test::roughnesses;
+using restir::test::view_at;
+using restir::test::view_degrees;
 
 TEST(BsdfShadingFrame, IsOrthonormalRightHandedAndInvertible) {
     Pcg32 rng;

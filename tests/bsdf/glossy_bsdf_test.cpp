@@ -25,22 +25,12 @@ namespace {
 using restir::BsdfSample;
 using restir::GlossyBsdf;
 using restir::Pcg32;
+using restir::test::random_unit;
+using restir::test::roughnesses;
+using restir::test::view_at;
+using restir::test::view_degrees;
 
-constexpr float roughnesses[] = {0.05f, 0.2f, 0.5f, 1.0f};
-constexpr float view_degrees[] = {0.0f, 45.0f, 80.0f};
 constexpr glm::vec3 up{0.0f, 0.0f, 1.0f};
-
-glm::vec3 view_at(float degrees) {
-    const float theta = degrees * (std::numbers::pi_v<float> / 180.0f);
-    return {std::sin(theta) * std::cos(0.7f), std::sin(theta) * std::sin(0.7f), std::cos(theta)};
-}
-
-glm::vec3 random_unit(Pcg32& rng) {
-    const float z = 1.0f - 2.0f * next_float(rng);
-    const float r = std::sqrt(std::fmax(0.0f, 1.0f - z * z));
-    const float phi = restir::two_pi * next_float(rng);
-    return {r * std::cos(phi), r * std::sin(phi), z};
-}
 
 glm::vec3 random_upper(Pcg32& rng) {
     const glm::vec3 d = random_unit(rng);

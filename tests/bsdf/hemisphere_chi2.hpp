@@ -6,6 +6,9 @@
 
 #include "support/chi2.hpp"
 
+#include <restir/core/math.hpp>
+#include <restir/core/rng.hpp>
+
 #include <glm/vec3.hpp>
 
 #include <gtest/gtest.h>
@@ -24,6 +27,24 @@ namespace restir::test {
 struct HemisphereCell {
     double cos0 = 0.0, cos1 = 1.0, phi0 = 0.0, phi1 = 0.0;
 };
+
+/// The roughnesses and view angles (degrees from the normal) the BSDF tests sweep.
+inline constexpr float roughnesses[] = {0.05f, 0.2f, 0.5f, 1.0f};
+inline constexpr float view_degrees[] = {0.0f, 45.0f, 80.0f};
+
+/// A unit view at `degrees` from the normal (z), turned 0.7 rad about it (off every axis).
+inline glm::vec3 view_at(float degrees) {
+    const float theta = degrees * (std::numbers::pi_v<float> / 180.0f);
+    return {std::sin(theta) * std::cos(0.7f), std::sin(theta) * std::sin(0.7f), std::cos(theta)};
+}
+
+/// A direction uniform on the sphere.
+inline glm::vec3 random_unit(restir::Pcg32& rng) {
+    const float z = 1.0f - 2.0f * next_float(rng);
+    const float r = std::sqrt(std::fmax(0.0f, 1.0f - z * z));
+    const float phi = restir::two_pi * next_float(rng);
+    return {r * std::cos(phi), r * std::sin(phi), z};
+}
 
 /// The unit direction at (cos theta, phi).
 inline glm::vec3 hemisphere_direction(double cos_theta, double phi) {
