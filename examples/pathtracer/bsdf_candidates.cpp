@@ -50,7 +50,7 @@ public:
             return source_->initial_reservoir(x, y, frame_index, s, rng);
         const restir::PowerLightSampler sampler{lights_.power_table().view()};
         const restir::ShadingPoint at{s.position, s.normal, 0.0f};
-        const restir::GlossyReceiver receiver{s.position, s.normal, s.wo, s.bsdf};
+        const restir::GlossyReceiver receiver = glossy_receiver(s); // as p-hat and shading see it
         const EmitterHits hits{&rays_, &lights_.emitters(), s.normal, ray_offset_};
         return restir::resample_lights_and_bsdf<target_norm>(
             rng, counts_, sampler, at, lights_.lights(), lights_.falloff(), receiver, hits);
