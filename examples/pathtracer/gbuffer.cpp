@@ -1,20 +1,63 @@
 #include "gbuffer.hpp"
 
 #include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
 
 namespace pt {
 
+namespace {
+
+// [-1, 1] to 16 bits and back (rounded to nearest).
+std::uint32_t to_snorm16(float v) {
+    return static_cast<std::uint32_t>((std::clamp(v, -1.0f, 1.0f) * 0.5f + 0.5f) * 65535.0f + 0.5f);
+}
+float from_snorm16(std::uint32_t v) { return static_cast<float>(v) * (2.0f / 65535.0f) - 1.0f; }
+
+// [0, 1] to `max` steps.
+template <class T>
+T to_unorm(float v, float max) {
+    return static_cast<T>(std::clamp(v, 0.0f, 1.0f) * max + 0.5f);
+}
+
+} // namespace
+
+// The octahedral map: the unit sphere onto the square [-1, 1]^2 (Cigolle et al. 2014).
+void set_view_and_material(GSurface& s, glm::vec3 wo, const Material& m, std::uint32_t index) {
+    const glm::vec3 p = wo / (std::abs(wo.x) + std::abs(wo.y) + std::abs(wo.z));
+    glm::vec2 e{p.x, p.y};
+    if (p.z < 0.0f)
+        e = {(1.0f - std::abs(p.y)) * (p.x >= 0.0f ? 1.0f : -1.0f),
+             (1.0f - std::abs(p.x)) * (p.y >= 0.0f ? 1.0f : -1.0f)};
+    s.wo_octahedral = to_snorm16(e.x) | (to_snorm16(e.y) << 16u);
+    s.albedo = m.albedo;
+    s.material = index;
+    s.specular = to_unorm<std::uint16_t>(m.specular, 65535.0f);
+    s.roughness = to_unorm<std::uint16_t>(m.roughness, 65535.0f);
+    s.metallic = to_unorm<std::uint8_t>(m.metallic, 255.0f);
+}
+
+glm::vec3 view_direction(const GSurface& s) {
+    const glm::vec2 e{from_snorm16(s.wo_octahedral & 0xffffu),
+                      from_snorm16(s.wo_octahedral >> 16u)};
+    glm::vec3 v{e.x, e.y, 1.0f - std::abs(e.x) - std::abs(e.y)};
+    if (v.z < 0.0f)
+        v = {(1.0f - std::abs(e.y)) * (e.x >= 0.0f ? 1.0f : -1.0f),
+             (1.0f - std::abs(e.x)) * (e.y >= 0.0f ? 1.0f : -1.0f), v.z};
+    return glm::normalize(v);
+}
+
 GSurface surface_at(const Scene& scene, const Hit& hit, glm::vec3 direction) {
     GSurface s;
-    const Material& m = scene.materials[scene.triangle_materials[hit.triangle]];
-    const bool front = glm::dot(hit.normal, direction) < 0.0f;
+    const std::uint32_t material = scene.triangle_materials[hit.triangle];
+    s.front = glm::dot(hit.normal, direction) < 0.0f;
     s.valid = true;
     s.position = hit.position;
-    s.normal = front ? hit.normal : -hit.normal;
-    s.wo = -direction;
-    s.bsdf = m.bsdf();
-    s.albedo = s.bsdf.diffuse_albedo;
-    s.emitted = front ? m.emission : glm::vec3(0.0f);
+    s.normal = s.front ? hit.normal : -hit.normal;
+    set_view_and_material(s, -direction, scene.materials[material], material);
     s.depth = hit.distance;
     return s;
 }

@@ -19,30 +19,47 @@
 namespace pt {
 
 /// A G-buffer texel: the primary hit of a pixel (or a path's vertex). Satisfies
-/// restir::Surface.
+/// restir::Surface. 56 bytes: its material and view direction packed (`surface_bsdf`,
+/// `view_direction`, `emitted`), since reuse reads this frame's and last frame's texels of every
+/// neighbour (at 96 bytes, with the BSDF, the direction and the emission as floats, the diffuse
+/// README render was 6-9 % slower).
 struct GSurface {
     glm::vec3 position{0.0f};
     glm::vec3 normal{0.0f, 1.0f, 0.0f}; ///< Geometric normal, turned towards the viewer.
-    glm::vec3 wo{0.0f, 1.0f, 0.0f};     ///< Unit direction towards the viewer (-ray direction).
-    /// The diffuse albedo (bsdf.diffuse_albedo: the base colour of a dielectric, 0 for a metal),
-    /// which VPLs and the photons' bounces use.
+    /// The base colour: the albedo of a Lambertian surface, a metal's F0 (Material::albedo).
     glm::vec3 albedo{0.0f};
-    glm::vec3 emitted{0.0f}; ///< Radiance the surface emits towards the viewer.
-    /// The surface's reflection (Material::bsdf); specular_f0 == 0 is Lambertian, albedo / pi.
-    restir::GlossyBsdf bsdf{glm::vec3(0.0f), glm::vec3(0.0f), 1.0f};
     float depth = 0.0f;
+    std::uint32_t wo_octahedral = 0u; ///< Unit direction towards the viewer, octahedral 2 x 16 bit.
+    std::uint32_t material = 0u;      ///< Index in Scene::materials (its emission, `emitted`).
+    std::uint16_t specular = 0u;      ///< Material::specular (dielectric F0) in units of 1/65535.
+    std::uint16_t roughness = 65535u; ///< Material::roughness in units of 1/65535.
+    std::uint8_t metallic = 0u;       ///< Material::metallic in units of 1/255.
+    bool front = true;                ///< The viewer sees the side the triangle's normal faces.
     bool valid = false;
 };
+static_assert(sizeof(GSurface) <= 56u, "as small as the diffuse texel was");
 inline glm::vec3 surface_position(const GSurface& s) { return s.position; }
 inline glm::vec3 surface_normal(const GSurface& s) { return s.normal; }
 inline float surface_depth(const GSurface& s) { return s.depth; }
 inline bool is_valid_surface(const GSurface& s) { return s.valid; }
 /// True when the surface reflects as albedo / pi alone (no specular lobe).
-inline bool is_lambertian(const GSurface& s) { return s.bsdf.specular_f0 == glm::vec3(0.0f); }
-/// Perceptual roughness, 1 for a Lambertian surface (restir::SimilarRoughness reads it).
-inline float surface_roughness(const GSurface& s) {
-    return is_lambertian(s) ? 1.0f : s.bsdf.roughness;
+inline bool is_lambertian(const GSurface& s) { return s.specular == 0u && s.metallic == 0u; }
+/// The surface's reflection (Material::bsdf, from the packed material); F0 = 0 for a
+/// Lambertian surface.
+inline restir::GlossyBsdf surface_bsdf(const GSurface& s) {
+    return restir::GlossyBsdf::from_metallic_roughness(
+        s.albedo, static_cast<float>(s.metallic) * (1.0f / 255.0f),
+        static_cast<float>(s.roughness) * (1.0f / 65535.0f),
+        static_cast<float>(s.specular) * (1.0f / 65535.0f));
 }
+/// Radiance the surface emits towards the viewer (an emitter's front side only).
+inline glm::vec3 emitted(const Scene& scene, const GSurface& s) {
+    return s.front ? scene.materials[s.material].emission : glm::vec3(0.0f);
+}
+/// The unit direction towards the viewer (Cigolle et al. 2014, octahedral encoding).
+glm::vec3 view_direction(const GSurface& s);
+/// Sets the direction towards the viewer and material `m`, Scene::materials[index], of `s`.
+void set_view_and_material(GSurface& s, glm::vec3 wo, const Material& m, std::uint32_t index);
 
 /// The surface that a ray travelling along `direction` (unit) found, seen from -direction;
 /// emission only on an emitter's front side.
@@ -65,6 +82,7 @@ public:
     const std::vector<GSurface>& surfaces() const { return surfaces_; }
     const std::vector<GSurface>& previous_surfaces() const { return previous_; }
     const EmbreeScene& rays() const { return *rays_; }
+    const Scene& scene() const { return *scene_; }
     float ray_offset() const { return ray_offset_; }
     /// Shadow rays towards light points, off the surfaces by `ray_offset`.
     restir::LightPointVisibility<EmbreeScene> point_visibility() const {

@@ -26,13 +26,13 @@ restir::BsdfSample sample_bounce(const GSurface& s, restir::Pcg32& rng) {
     const float u_lobe = next_float(rng);
     const float u0 = next_float(rng);
     const float u1 = next_float(rng);
-    return s.bsdf.sample(s.normal, s.wo, u_lobe, u0, u1);
+    return surface_bsdf(s).sample(s.normal, view_direction(s), u_lobe, u0, u1);
 }
 
 // The solid-angle density with which sample_bounce draws `wi`.
 float bounce_pdf(const GSurface& s, glm::vec3 wi) {
     return is_lambertian(s) ? restir::diffuse_direction_pdf(s.normal, wi)
-                            : s.bsdf.pdf(s.normal, s.wo, wi);
+                            : surface_bsdf(s).pdf(s.normal, view_direction(s), wi);
 }
 
 } // namespace

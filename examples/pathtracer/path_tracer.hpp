@@ -30,13 +30,13 @@ public:
     /// stops after the BSDF-sampled ray that MIS needs).
     glm::vec3 path_radiance(const GSurface& start, restir::Pcg32& rng, bool direct,
                             bool bounce_further) const;
-    /// One VPL chosen by power, its light reflected at `s` by s.bsdf (no MIS: VPLs are
+    /// One VPL chosen by power, its light reflected at `s` by its BSDF (no MIS: VPLs are
     /// points). VPLs emit as diffuse surfaces whatever the material they lie on.
     glm::vec3 vpl_nee(const GSurface& s, restir::Pcg32& rng) const;
 
 private:
     glm::vec3 emitter_nee(const GSurface& s, restir::Pcg32& rng) const;
-    /// Light of a point `light` (unshadowed) reflected at `s` towards s.wo.
+    /// Light of a point `light` (unshadowed) reflected at `s` towards its viewer.
     glm::vec3 reflected(const GSurface& s, const restir::LightSample& light) const;
     bool visible(const restir::LightSampleRef& ref, const GSurface& s) const;
 

@@ -234,11 +234,6 @@ void add_glossy_options(CLI::App& app, RenderSettings& settings) {
                    "light candidates drawn per pixel by power (0: light candidates from --source "
                    "alone)")
         ->check(CLI::Range(0u, 1024u));
-    app.add_option("--max-roughness-difference", settings.max_roughness_difference,
-                   "Reuse takes a neighbour's or the history's sample only where its surface's "
-                   "roughness is within this of the pixel's (Lambertian surfaces count as 1; 1 "
-                   "accepts every pair)")
-        ->check(CLI::Range(0.0f, 1.0f));
 }
 
 // How candidates' points on emitters are drawn.

@@ -196,7 +196,7 @@ struct Renderer::Impl {
     glm::vec3 independent_radiance(const GSurface& s, const Reservoir& picked,
                                    restir::Pcg32& rng) const {
         const bool gi_path = settings.gi == GlobalIllumination::path;
-        glm::vec3 color = s.emitted;
+        glm::vec3 color = emitted(scene, s);
         if (settings.method == Method::reference) {
             color += paths.path_radiance(s, rng, true, gi_path);
             if (settings.gi == GlobalIllumination::vpl)

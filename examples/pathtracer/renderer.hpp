@@ -58,9 +58,6 @@ struct RenderSettings {
     /// candidates drawn per pixel by power (restir::resample_lights_and_bsdf); 0: light
     /// candidates from `source` alone.
     std::uint32_t bsdf_candidates = 0;
-    /// Reuse takes a neighbour's (or the history's) reservoir only where its roughness is
-    /// within this of the pixel's (restir::SimilarRoughness; Lambertian surfaces count as 1).
-    float max_roughness_difference = 0.2f;
     /// --source grid: cells along the longest side of the scene's box (the other sides in
     /// cells of about the same size). Finer cells give candidates closer to each pixel's
     /// lights, and cost more cells to fill every frame (docs/performance.md).

@@ -46,14 +46,14 @@ inline constexpr restir::ChannelNorm target_norm = restir::ChannelNorm::euclidea
 /// rarely find (docs/noise-and-bias.md). Emitters light every surface through its own BSDF.
 inline constexpr float vpl_min_alpha = 0.25f;
 
-/// Surface `s` as a glossy receiver, seen from `s.wo`.
+/// Surface `s` as a glossy receiver, seen from its viewer.
 inline restir::GlossyReceiver glossy_receiver(const GSurface& s) {
-    return {s.position, s.normal, s.wo, s.bsdf, vpl_min_alpha};
+    return {s.position, s.normal, view_direction(s), surface_bsdf(s), vpl_min_alpha};
 }
 
 /// body(receiver) at surface `s`: a Lambertian surface as restir::LambertianReceiver (the
 /// library's folded diffuse formulas, as fast as before glossy materials), any other with its
-/// GGX + Lambert BSDF seen from `s.wo` (restir::GlossyReceiver).
+/// GGX + Lambert BSDF seen from its viewer (restir::GlossyReceiver).
 template <class Body>
 decltype(auto) with_receiver(const GSurface& s, Body&& body) {
     if (is_lambertian(s))
@@ -61,21 +61,39 @@ decltype(auto) with_receiver(const GSurface& s, Body&& body) {
     return body(glossy_receiver(s));
 }
 
+namespace detail {
+// The glossy branch of point_target and unshadowed, out of line: reuse evaluates p-hat for
+// every neighbour (pair), and the GGX evaluation inlined there made the diffuse path's loops
+// larger and slower (docs/performance.md).
+[[gnu::noinline]] inline float glossy_target(const restir::LightPointSample& sample,
+                                             const GSurface& s) {
+    return restir::fold_channels<target_norm>(
+        restir::unshadowed_radiance(sample, glossy_receiver(s)));
+}
+[[gnu::noinline]] inline glm::vec3 glossy_radiance(const restir::LightPointSample& sample,
+                                                   const GSurface& s) {
+    return restir::unshadowed_radiance(sample, glossy_receiver(s));
+}
+} // namespace detail
+
 /// p-hat of a light point at surface `s`: its unshadowed reflected radiance, folded.
 inline float point_target(const restir::LightPointSample& sample, const GSurface& s) {
-    return with_receiver(s, [&](const auto& receiver) {
-        return restir::fold_channels<target_norm>(restir::unshadowed_radiance(sample, receiver));
-    });
+    if (is_lambertian(s)) [[likely]]
+        return restir::fold_channels<target_norm>(restir::unshadowed_radiance(
+            sample, restir::LambertianReceiver{s.position, s.normal, s.albedo}));
+    return detail::glossy_target(sample, s);
 }
 
 /// f(y) W without visibility, for a reservoir whose sample is known to be visible.
 inline glm::vec3 unshadowed(const Reservoir& reservoir, const GSurface& s) {
     if (!reservoir.has_sample() || !(reservoir.contribution_weight > 0.0f))
         return glm::vec3(0.0f);
-    return with_receiver(s, [&](const auto& receiver) {
-        return restir::unshadowed_radiance(reservoir.sample, receiver) *
-               reservoir.contribution_weight;
-    });
+    const glm::vec3 radiance =
+        is_lambertian(s)
+            ? restir::unshadowed_radiance(
+                  reservoir.sample, restir::LambertianReceiver{s.position, s.normal, s.albedo})
+            : detail::glossy_radiance(reservoir.sample, s);
+    return radiance * reservoir.contribution_weight;
 }
 
 } // namespace pt

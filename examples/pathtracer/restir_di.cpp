@@ -181,7 +181,7 @@ struct RestirDi::Stages {
         };
         const restir::ReuseBridge bridge{
             [](const restir::LightPointSample& x, const GSurface& s) { return point_target(x, s); },
-            gbuffer.shadow_packets(), restir::SimilarRoughness{settings.max_roughness_difference}};
+            gbuffer.shadow_packets()};
         restir::run_di_frame(f, buffers, timed_tiles(f.frame_index, t), initial, bridge, rng_for,
                              shade);
     }
@@ -193,7 +193,8 @@ struct RestirDi::Stages {
         const GSurface& s = gbuffer.surfaces()[i];
         if (!s.valid)
             return glm::vec3(0.0f);
-        glm::vec3 color = s.emitted + (visible ? unshadowed(r, s) : glm::vec3(0.0f));
+        glm::vec3 color =
+            emitted(gbuffer.scene(), s) + (visible ? unshadowed(r, s) : glm::vec3(0.0f));
         if (settings.gi == GlobalIllumination::path) {
             restir::Pcg32 rng =
                 restir::make_pixel_rng(i, frame_index, RenderStream::path, settings.seed);

@@ -3,6 +3,7 @@
 // path tracer converges to the analytic radiance of a furnace, and images do not depend on
 // the thread count or on how the temporal history is stored.
 #include "error_metrics.hpp"
+#include "gbuffer.hpp"
 #include "renderer.hpp"
 #include "scene.hpp"
 
@@ -609,4 +610,42 @@ TEST(Renderer, GlossyCornellBoxAgreesWithTheReference) {
                     k, brightness[k].mean(), brightness[0].mean(), error);
         EXPECT_LT(std::abs(difference), 4.0 * error) << "setup " << k;
     }
+}
+
+// The G-buffer texel keeps its view direction and material packed: they come back to within
+// the packing's steps (2^-15 of the octahedral square, 1/65535 of F0 and roughness).
+TEST(GBuffer, PackedViewAndMaterialComeBack) {
+    pt::Material m;
+    m.albedo = {0.9f, 0.6f, 0.3f};
+    m.specular = 0.04f;
+    m.roughness = 0.12f;
+    m.metallic = 1.0f;
+    m.emission = {2.0f, 1.0f, 0.5f};
+    pt::Scene scene;
+    scene.materials = {pt::Material{}, m};
+    restir::Pcg32 rng = restir::make_pixel_rng(0u, 0u, 0u, 5u);
+    for (int i = 0; i < 1000; ++i) {
+        const float z = 1.0f - 2.0f * next_float(rng);
+        const float phi = 6.2831853f * next_float(rng);
+        const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+        const glm::vec3 wo{r * std::cos(phi), r * std::sin(phi), z};
+        pt::GSurface s;
+        pt::set_view_and_material(s, wo, m, 1u);
+        EXPECT_LT(glm::length(pt::view_direction(s) - wo), 2e-4f) << i; // 2^-15 steps
+        const restir::GlossyBsdf packed = pt::surface_bsdf(s);
+        const restir::GlossyBsdf exact = m.bsdf();
+        EXPECT_NEAR(packed.roughness, exact.roughness, 1e-5f);
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_NEAR(packed.specular_f0[c], exact.specular_f0[c], 1e-5f);
+            EXPECT_NEAR(packed.diffuse_albedo[c], exact.diffuse_albedo[c], 1e-5f);
+        }
+        EXPECT_FALSE(pt::is_lambertian(s));
+        EXPECT_EQ(pt::emitted(scene, s), m.emission);
+        s.front = false;
+        EXPECT_EQ(pt::emitted(scene, s), glm::vec3(0.0f));
+    }
+    pt::GSurface diffuse;
+    pt::set_view_and_material(diffuse, {0.0f, 0.0f, 1.0f}, pt::Material{}, 0u);
+    EXPECT_TRUE(pt::is_lambertian(diffuse));
+    EXPECT_EQ(pt::surface_bsdf(diffuse).specular_f0, glm::vec3(0.0f));
 }
