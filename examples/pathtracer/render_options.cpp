@@ -280,6 +280,11 @@ void check_consistent(const RenderOptions& options) {
         fail("restir renders one sample per pixel per frame: use --frames instead of --spp");
     if (!options.reference.empty() && settings.motion != CameraMotion::none)
         fail("--reference needs a still camera (--camera-motion none)");
+    // A packed history decodes a point's 1 / area_pdf from the light set by area; a point drawn
+    // from the pixel carries its own, which the stored W belongs to.
+    if (settings.packed_history && settings.light_points == LightPoints::solid_angle)
+        fail("--packed-history decodes light points as area samples: use --light-points area "
+             "with it");
 }
 
 } // namespace

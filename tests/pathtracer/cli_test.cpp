@@ -322,6 +322,8 @@ TEST(Cli, RendersTheGlossyCornellBox) {
                 << r.out;
         }
     expect_one_line_error(small("--scene cornell-glossy --materials shiny"), "--materials");
+    expect_one_line_error(small("--packed-history true --light-points solid-angle"),
+                          "--packed-history");
 }
 
 TEST(Cli, RendersTheSharedCornellBoxObj) {
