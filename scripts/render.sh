@@ -13,4 +13,14 @@ cmake -S . -B build/render -DCMAKE_BUILD_TYPE=Release -DRESTIR_BUILD_TESTS=OFF \
 cmake --build build/render --target restir-render -j "$(nproc)"
 build/render/examples/pathtracer/restir-render --scene cornell --method restir --gi vpl \
   --frames 16 --out out/cornell.png "$@"
-echo "image: $PWD/out/cornell.png"
+# The image written: the last --out given, out/cornell.png when none is.
+out=out/cornell.png
+while [ $# -gt 0 ]; do
+  case $1 in
+  --out) [ $# -gt 1 ] && out=$2 ;;
+  --out=*) out=${1#--out=} ;;
+  esac
+  shift
+done
+case $out in /*) ;; *) out=$PWD/$out ;; esac
+echo "image: $out"
