@@ -141,11 +141,16 @@ struct GlossyBsdf {
     /// a loop over wi (see `glossy_evaluate_cos`); always inlined.
     RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE glm::vec3 evaluate_cos(glm::vec3 n, glm::vec3 wo,
                                                                   glm::vec3 wi) const {
+        return evaluate_cos(n, wo, wi, ggx_alpha(roughness));
+    }
+    /// The same with the specular lobe's GGX `alpha` given (a lobe widened for a light of
+    /// some size, `GlossyReceiver`).
+    RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE glm::vec3 evaluate_cos(glm::vec3 n, glm::vec3 wo,
+                                                                  glm::vec3 wi, float alpha) const {
         const glm::vec3 h = wo + wi;
         const glm::vec3 n_cross_h = glm::cross(n, h);
-        return glossy_evaluate_cos(diffuse_albedo, specular_f0, ggx_alpha(roughness),
-                                   glm::dot(n, wo), glm::dot(n, wi), glm::dot(h, h),
-                                   glm::dot(n_cross_h, n_cross_h));
+        return glossy_evaluate_cos(diffuse_albedo, specular_f0, alpha, glm::dot(n, wo),
+                                   glm::dot(n, wi), glm::dot(h, h), glm::dot(n_cross_h, n_cross_h));
     }
 
     /// Solid-angle density with which `sample` returns wi: the mixture p pdf_specular +

@@ -9,7 +9,6 @@
 #include "restir/core/math.hpp"
 #include "restir/light/receiver.hpp"
 
-#include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
 namespace restir {
@@ -37,13 +36,8 @@ struct GlossyReceiver {
     /// to at least `sphere_min_alpha`.
     RESTIR_HOST_DEVICE glm::vec3 reflected(glm::vec3 wi, float sphere_radius) const {
         const float alpha = ggx_alpha(bsdf.roughness);
-        const float widened = max_of(alpha + 0.5f * sphere_radius, sphere_min_alpha);
-        const glm::vec3 h = wo + wi;
-        const glm::vec3 n_cross_h = glm::cross(normal, h);
-        return glossy_evaluate_cos(bsdf.diffuse_albedo, bsdf.specular_f0,
-                                   sphere_radius > 0.0f ? min_of(widened, 1.0f) : alpha,
-                                   glm::dot(normal, wo), glm::dot(normal, wi), glm::dot(h, h),
-                                   glm::dot(n_cross_h, n_cross_h));
+        const float widened = min_of(max_of(alpha + 0.5f * sphere_radius, sphere_min_alpha), 1.0f);
+        return bsdf.evaluate_cos(normal, wo, wi, sphere_radius > 0.0f ? widened : alpha);
     }
     /// A direction from the BSDF's lobes (`GlossyBsdf::sample`).
     RESTIR_HOST_DEVICE DirectionSample sample_direction(float u_lobe, float u0, float u1) const {
