@@ -16,6 +16,7 @@
 #include "restir/light/light_point_sample.hpp"
 #include "restir/light/light_sample.hpp"
 #include "restir/light/receiver.hpp"
+#include "restir/light/solid_angle.hpp"
 #include "restir/sampling/light_sampler.hpp"
 
 #include <glm/geometric.hpp>
@@ -58,17 +59,17 @@ struct CandidateCounts {
 
 namespace detail {
 /// Density per unit area of the BSDF strategy at a point of an area light: the solid-angle pdf
-/// times |cos theta_light| / d^2.
+/// of the direction to it, converted (`solid_angle_to_area_pdf`).
 template <SamplingReceiver R>
 RESTIR_HOST_DEVICE float bsdf_area_pdf(const R& receiver, glm::vec3 point, glm::vec3 light_normal) {
-    const glm::vec3 x = point - glm::vec3(receiver.position);
+    const glm::vec3 from = receiver.position;
+    const glm::vec3 x = point - from;
     const float d2 = glm::dot(x, x);
     if (!(d2 > 0.0f))
         return 0.0f;
-    const glm::vec3 wi = x * (1.0f / std::sqrt(d2));
-    const float cos_light = glm::dot(light_normal, wi);
-    const float pdf = static_cast<float>(receiver.direction_pdf(wi)) *
-                      (cos_light < 0.0f ? -cos_light : cos_light) / d2;
+    const float pdf = solid_angle_to_area_pdf(
+        static_cast<float>(receiver.direction_pdf(x * (1.0f / std::sqrt(d2)))), from, point,
+        light_normal);
     return is_valid_weight(pdf) ? pdf : 0.0f;
 }
 } // namespace detail
@@ -138,7 +139,9 @@ resample_lights_and_bsdf(Rng& rng, const CandidateCounts& counts, const Sampler&
                 x = make_light_point_sample(hit.light_id, hit.point, falloff);
                 target_value = target(x); // p-hat / area_pdf
                 const float p_light = sampler.pmf(at, hit.light_id) * area_pdf;
-                const float p_bsdf = detail::bsdf_area_pdf(receiver, x.position, x.normal);
+                // The direction's own density, converted: no second evaluation of the pdf.
+                const float p_bsdf = solid_angle_to_area_pdf(
+                    direction.pdf, glm::vec3(receiver.position), x.position, x.normal);
                 weight = safe_divide(target_value * area_pdf, m_light * p_light + m_bsdf * p_bsdf);
             }
         }
