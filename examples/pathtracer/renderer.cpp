@@ -215,7 +215,7 @@ std::uint64_t estimated_memory_bytes(const RenderSettings& settings, bool with_r
     // The two G-buffers hold 2 x 96 bytes of GSurface a pixel (80 more since it carries wo and
     // the BSDF).
     const std::uint64_t per_pixel =
-        (settings.method == Method::restir ? 464u : 272u) + (with_reference ? 48u : 0u);
+        (settings.method == Method::restir ? 384u : 192u) + (with_reference ? 48u : 0u);
     const std::uint64_t vpls = settings.gi == GlobalIllumination::vpl ? settings.vpls : 0u;
     // bvh's light tree: 124 bytes more per VPL measured at 1M VPLs (grid's per-light nodes
     // need less); the grid at most: its cells' tile indices (4 bytes a cell), and its tiles (a
