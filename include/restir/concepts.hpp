@@ -88,7 +88,10 @@ concept Surface = requires(const S& s) {
 };
 
 /// A point on a light, as returned by a light set: members `position`, `normal`, `radiance`
-/// (glm::vec3), `area_pdf` (float) and `is_delta` (bool). `restir::LightSample` is one.
+/// (glm::vec3), `area_pdf` (float) and `is_delta` (bool). `restir::LightSample` is one. An
+/// optional `is_distant` (bool) marks a direction rather than a point (an environment's
+/// sample: `position` is the unit direction towards the light, `area_pdf` a density per
+/// steradian, `normal` zero); without the member every point is a point.
 template <class T>
 concept LightPoint = requires(const T& p) {
     { p.position } -> std::convertible_to<glm::vec3>;
@@ -97,6 +100,16 @@ concept LightPoint = requires(const T& p) {
     { p.area_pdf } -> std::convertible_to<float>;
     { p.is_delta } -> std::convertible_to<bool>;
 };
+
+/// Whether a `LightPoint` is a direction (a distant light's sample): its `is_distant` member,
+/// which light sets without distant lights need not have.
+template <LightPoint P>
+RESTIR_HOST_DEVICE constexpr bool is_distant_point(const P& p) {
+    if constexpr (requires { p.is_distant; })
+        return static_cast<bool>(p.is_distant);
+    else
+        return false;
+}
 
 /// All lights of the scene, emitters and VPLs in one id space. Required expressions:
 ///   `lights.light_count()`          -> std::uint32_t;

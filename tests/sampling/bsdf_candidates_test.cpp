@@ -162,3 +162,124 @@ TEST(BsdfCandidates, UnbiasedAtGlossyReceivers) {
 }
 
 } // namespace
+
+namespace {
+
+// TwoLights with a sky as light 2: a distant light of radiance sky(w) = (0.3 + 4 max(0, s.w)^16)
+// times a colour, sampled uniformly over the sphere (pdf 1 / (4 pi) per steradian). The
+// rectangle hides the sky behind it: BSDF rays that hit it find the rectangle, and light
+// candidates towards the sky behind it are shadowed.
+struct LightsAndSky : TwoLights {
+    glm::vec3 sun = glm::normalize(glm::vec3(0.4f, 0.8f, -0.3f));
+    glm::vec3 sky_colour{0.4f, 0.6f, 1.0f};
+
+    glm::vec3 sky(glm::vec3 w) const {
+        return sky_colour * (0.3f + 4.0f * std::pow(std::max(0.0f, glm::dot(sun, w)), 16.0f));
+    }
+    std::uint32_t light_count() const { return 3u; }
+    restir::LightSample sample_point(std::uint32_t id, glm::vec2 uv) const {
+        if (id < 2u)
+            return TwoLights::sample_point(id, uv);
+        const float z = 1.0f - 2.0f * uv.x;
+        const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+        const float phi = 2.0f * restir::pi * uv.y;
+        restir::LightSample p;
+        p.position = {r * std::cos(phi), z, r * std::sin(phi)};
+        p.normal = glm::vec3(0.0f);
+        p.radiance = sky(p.position);
+        p.area_pdf = 1.0f / (4.0f * restir::pi);
+        p.is_distant = true;
+        return p;
+    }
+};
+
+// The rectangle along a ray, else the sky.
+struct RectangleOrSkyQuery {
+    const LightsAndSky* lights;
+    restir::LightHit find_light(glm::vec3 origin, glm::vec3 direction) const {
+        const restir::LightHit hit = RectangleQuery{lights}.find_light(origin, direction);
+        if (hit.found)
+            return hit;
+        restir::LightSample sky;
+        sky.position = direction;
+        sky.normal = glm::vec3(0.0f);
+        sky.radiance = lights->sky(direction);
+        sky.area_pdf = 1.0f / (4.0f * restir::pi);
+        sky.is_distant = true;
+        return {true, 2u, sky};
+    }
+};
+
+// Whether the rectangle blocks the sky along `direction` from `origin`.
+bool rectangle_blocks(const LightsAndSky& lights, glm::vec3 origin, glm::vec3 direction) {
+    return RectangleQuery{&lights}.find_light(origin, direction).found;
+}
+
+// The rectangle and the point light as `truth` has them, plus the sky where the rectangle does
+// not hide it, by the midpoint rule over (phi, cos theta) on n x n cells (d omega = d phi dz).
+template <class R>
+glm::dvec3 truth_with_sky(const LightsAndSky& lights, const R& receiver, int n) {
+    glm::dvec3 sum(0.0);
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            const double z = 1.0 - 2.0 * (i + 0.5) / n;
+            const double phi = 2.0 * 3.14159265358979323846 * (j + 0.5) / n;
+            const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+            const glm::vec3 w(static_cast<float>(r * std::cos(phi)), static_cast<float>(z),
+                              static_cast<float>(r * std::sin(phi)));
+            if (!rectangle_blocks(lights, receiver.position, w))
+                sum += glm::dvec3(lights.sky(w) * receiver.reflected(w));
+        }
+    sum *= 4.0 * 3.14159265358979323846 / (static_cast<double>(n) * n);
+    return sum + truth(lights, receiver, true, 1024);
+}
+
+// Light and BSDF candidates over the rectangle, the point light and the sky, shaded with the
+// sky's visibility: unbiased in the mixed measures (area for the rectangle, solid angle for the
+// sky, counting for the point).
+template <class R>
+void expect_unbiased_with_sky(const LightsAndSky& lights, const R& receiver,
+                              restir::CandidateCounts counts, const std::string& label) {
+    const restir::UniformLightSampler sampler{3u};
+    const RectangleOrSkyQuery query{&lights};
+    const restir::ShadingPoint at{receiver.position, receiver.normal, 0.0f};
+    RunningStats stats[3];
+    constexpr std::uint32_t trials = 40000u;
+    for (std::uint32_t t = 0; t < trials; ++t) {
+        restir::Pcg32 rng = restir::make_pixel_rng(t, 0u, 0u, 11u);
+        const restir::Reservoir<restir::LightPointSample> r =
+            restir::resample_lights_and_bsdf<restir::ChannelNorm::euclidean>(
+                rng, counts, sampler, at, lights, restir::Falloff::exact(), receiver, query);
+        const bool visible = !r.sample.is_distant() ||
+                             !rectangle_blocks(lights, receiver.position, r.sample.position);
+        const glm::vec3 estimate =
+            r.has_sample() && visible
+                ? restir::unshadowed_radiance(r.sample, receiver) * r.contribution_weight
+                : glm::vec3(0.0f);
+        for (int c = 0; c < 3; ++c)
+            stats[c].add(static_cast<double>(estimate[c]));
+    }
+    const glm::dvec3 exact = truth_with_sky(lights, receiver, 1024);
+    for (int c = 0; c < 3; ++c)
+        EXPECT_LT(std::abs(stats[c].mean() - exact[c]), 4.0 * stats[c].standard_error())
+            << label << " channel " << c << ": mean " << stats[c].mean() << " truth " << exact[c]
+            << " SE " << stats[c].standard_error();
+}
+
+TEST(BsdfCandidates, UnbiasedWithASkyBesideAreaAndPointLights) {
+    const LightsAndSky lights;
+    const CosineReceiver diffuse{{0.1f, 0.0f, 0.2f}, {0.0f, 1.0f, 0.0f}, {0.7f, 0.5f, 0.3f}};
+    expect_unbiased_with_sky(lights, diffuse, {8u, 0u}, "diffuse, lights only");
+    expect_unbiased_with_sky(lights, diffuse, {4u, 2u}, "diffuse, lights and BSDF");
+    const glm::vec3 wo = glm::normalize(glm::vec3(-0.6f, 1.0f, -0.1f));
+    for (const float roughness : {0.1f, 0.5f}) {
+        restir::GlossyReceiver glossy{{0.1f, 0.0f, 0.2f}, {0.0f, 1.0f, 0.0f}, wo, {}};
+        glossy.bsdf =
+            restir::GlossyBsdf::from_metallic_roughness({0.8f, 0.6f, 0.4f}, 0.5f, roughness);
+        const std::string name = "roughness " + std::to_string(roughness);
+        expect_unbiased_with_sky(lights, glossy, {8u, 0u}, name + ", lights only");
+        expect_unbiased_with_sky(lights, glossy, {4u, 2u}, name + ", lights and BSDF");
+    }
+}
+
+} // namespace

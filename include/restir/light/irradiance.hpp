@@ -51,12 +51,15 @@ RESTIR_HOST_DEVICE inline float emission_cosine(glm::vec3 light_normal,
 ///   area light: L cos(theta_light) cos(theta_receiver) / (d^2 area_pdf)   (one sample of E);
 ///   delta light: I cos(theta_light) cos(theta_receiver) falloff(d)        (exact, with the
 ///                chosen falloff in place of 1/d^2).
+///   distant light: L cos(theta_receiver) / pdf                             (one sample of E,
+///                pdf per steradian: the direction is the same from every receiver, d = 1).
 /// For a VPL of reflected flux Phi, I = Phi / pi (`vpl_light_sample`). Multiply by the
 /// receiver's BRDF (albedo / pi for a diffuse one) for outgoing radiance.
 template <LightPoint P>
 RESTIR_HOST_DEVICE glm::vec3 unshadowed_irradiance(const P& light, glm::vec3 position,
                                                    glm::vec3 normal, const Falloff& falloff) {
-    const glm::vec3 offset = glm::vec3(light.position) - position;
+    const glm::vec3 offset =
+        glm::vec3(light.position) - (is_distant_point(light) ? glm::vec3(0.0f) : position);
     const float distance_squared = glm::dot(offset, offset);
     if (!(distance_squared > 0.0f))
         return glm::vec3(0.0f);

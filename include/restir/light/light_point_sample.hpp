@@ -73,7 +73,10 @@ RESTIR_HOST_DEVICE inline float folded_arrival_factor(float x, float y, float z,
 /// folded for `folded_irradiance_factor` (the point stands in for the light's uv, which is not
 /// kept). 48 bytes with its alignment, so that a `Reservoir<LightPointSample>` fills one
 /// 64-byte cache line. The point stays valid while the light does not move (for reservoirs kept
-/// across frames, as a `LightSampleRef` does).
+/// across frames, as a `LightSampleRef` does). A distant light's sample (`positional` 0) keeps
+/// its direction in `position`: the offset from every receiver to the light is that direction,
+/// x = position - positional * receiver, at distance 1 from an isotropic "point", so the
+/// folded formulas give L cos(theta_receiver) / pdf for it with no branch and no shift.
 struct alignas(16) LightPointSample {
     std::uint32_t light_id = 0u;
     glm::vec3 position{0.0f};
@@ -82,6 +85,16 @@ struct alignas(16) LightPointSample {
     /// The falloff of a delta light: r^2 of Yuksel's (> 0), -d_min^2 of the clamped inverse
     /// square (< 0), or 0 for the exact inverse square and for area lights.
     float falloff = 0.0f;
+    /// 1 for a point; 0 for a distant light's direction (`LightSample::is_distant`).
+    float positional = 1.0f;
+
+    /// Whether the sample is a direction (a distant light's), not a point.
+    RESTIR_HOST_DEVICE constexpr bool is_distant() const noexcept { return positional == 0.0f; }
+    /// The offset from a receiver at `receiver_position` to the light: the point minus the
+    /// receiver, or the direction of a distant light.
+    RESTIR_HOST_DEVICE glm::vec3 offset_from(glm::vec3 receiver_position) const noexcept {
+        return position - receiver_position * positional;
+    }
 
     /// The same light and point (the frame recipe skips retesting a sample it kept).
     RESTIR_HOST_DEVICE friend constexpr bool operator==(const LightPointSample& a,
@@ -90,7 +103,8 @@ struct alignas(16) LightPointSample {
                a.position.y == b.position.y && a.position.z == b.position.z &&
                a.normal.x == b.normal.x && a.normal.y == b.normal.y && a.normal.z == b.normal.z &&
                a.intensity.x == b.intensity.x && a.intensity.y == b.intensity.y &&
-               a.intensity.z == b.intensity.z && a.falloff == b.falloff;
+               a.intensity.z == b.intensity.z && a.falloff == b.falloff &&
+               a.positional == b.positional;
     }
 };
 
@@ -112,18 +126,22 @@ RESTIR_HOST_DEVICE inline float folded_falloff(const Falloff& falloff) noexcept 
 }
 
 /// Light `light_id` with its evaluated `point`, folded; delta lights take `falloff`. A point
-/// that cannot emit (an area light with area_pdf 0) gets zero intensity.
+/// that cannot emit (an area light with area_pdf 0) gets zero intensity. A distant light's
+/// direction keeps radiance / pdf (per steradian) as its intensity, a zero normal and
+/// `positional` 0.
 template <LightPoint P>
 RESTIR_HOST_DEVICE LightPointSample make_light_point_sample(std::uint32_t light_id, const P& point,
                                                             const Falloff& falloff) {
+    const bool distant = is_distant_point(point);
     LightPointSample s;
     s.light_id = light_id;
     s.position = point.position;
-    s.normal = point.normal;
+    s.normal = distant ? glm::vec3(0.0f) : glm::vec3(point.normal);
+    s.positional = distant ? 0.0f : 1.0f;
     const float area_pdf = static_cast<float>(point.area_pdf);
     const float scale = point.is_delta ? 1.0f : area_pdf > 0.0f ? 1.0f / area_pdf : 0.0f;
     s.intensity = glm::vec3(point.radiance) * scale;
-    s.falloff = point.is_delta ? folded_falloff(falloff) : 0.0f;
+    s.falloff = point.is_delta && !distant ? folded_falloff(falloff) : 0.0f;
     return s;
 }
 
@@ -131,7 +149,7 @@ RESTIR_HOST_DEVICE LightPointSample make_light_point_sample(std::uint32_t light_
 /// `unshadowed_irradiance` for the point it was made from, up to float rounding.
 RESTIR_HOST_DEVICE inline glm::vec3 unshadowed_irradiance(const LightPointSample& s,
                                                           glm::vec3 position, glm::vec3 normal) {
-    const glm::vec3 x = s.position - position;
+    const glm::vec3 x = s.offset_from(position);
     const bool isotropic = s.normal.x == 0.0f && s.normal.y == 0.0f && s.normal.z == 0.0f;
     return s.intensity * folded_irradiance_factor(x.x, x.y, x.z, normal, s.normal.x, s.normal.y,
                                                   s.normal.z, isotropic ? 1.0f : 0.0f,
@@ -149,7 +167,7 @@ RESTIR_HOST_DEVICE glm::vec3 unshadowed_radiance(const LightPointSample& s, cons
         return receiver.albedo * inv_pi *
                unshadowed_irradiance(s, receiver.position, receiver.normal);
     } else {
-        const glm::vec3 x = s.position - glm::vec3(receiver.position);
+        const glm::vec3 x = s.offset_from(glm::vec3(receiver.position));
         const float d2 = glm::dot(x, x);
         const float inverse_distance = d2 > 0.0f ? 1.0f / std::sqrt(d2) : 0.0f;
         const bool isotropic = s.normal.x == 0.0f && s.normal.y == 0.0f && s.normal.z == 0.0f;
@@ -168,30 +186,47 @@ RESTIR_HOST_DEVICE glm::vec3 unshadowed_radiance(const LightPointSample& s, cons
 ///
 /// The ray offset has no default, as `LightVisibility`'s: a world-space length that must be
 /// scaled to the scene (`for_scene`: 1e-4 of the diagonal of its bounding box), positive and
-/// finite (a debug build checks). `{&query}` without it does not compile.
+/// finite (a debug build checks). `{&query}` without it does not compile. A distant light's
+/// sample is tested along its direction up to `far_distance` (`distant_shadow_segment`).
 template <RayQuery Query>
 struct LightPointVisibility {
     /// The offset `for_scene` takes, relative to the scene's extent.
     static constexpr float relative_ray_offset = 1e-4f;
+    /// The length of shadow rays towards distant lights `for_scene` takes, relative to the
+    /// scene's extent: from any point of the scene, twice its diagonal leaves it.
+    static constexpr float relative_far_distance = 2.0f;
 
     const Query* query;
-    float ray_offset; ///< World-space, > 0.
+    float ray_offset;   ///< World-space, > 0.
+    float far_distance; ///< World-space length of shadow rays towards distant lights, > 0.
 
+    /// `far_distance` defaults to the scene extent that `offset` implies when it came from
+    /// `relative_ray_offset` (2e4 times the offset): state it for any other offset.
     RESTIR_HOST_DEVICE constexpr LightPointVisibility(const Query* ray_query, float offset) noexcept
-        : query(ray_query), ray_offset(offset) {
+        : LightPointVisibility(ray_query, offset,
+                               offset * (relative_far_distance / relative_ray_offset)) {}
+    RESTIR_HOST_DEVICE constexpr LightPointVisibility(const Query* ray_query, float offset,
+                                                      float far) noexcept
+        : query(ray_query), ray_offset(offset), far_distance(far) {
         RESTIR_ASSERT(offset > 0.0f && is_finite(offset));
+        RESTIR_ASSERT(far > 0.0f && is_finite(far));
     }
-    /// The offset scaled to the scene: `relative_ray_offset` times `scene_extent` (the
-    /// diagonal of the scene's bounding box, in world units).
+    /// The offset and the far distance scaled to the scene: `relative_ray_offset` and
+    /// `relative_far_distance` times `scene_extent` (the diagonal of the scene's bounding box,
+    /// in world units).
     RESTIR_HOST_DEVICE static constexpr LightPointVisibility
     for_scene(const Query& ray_query, float scene_extent) noexcept {
-        return {&ray_query, relative_ray_offset * scene_extent};
+        return {&ray_query, relative_ray_offset * scene_extent,
+                relative_far_distance * scene_extent};
     }
 
     /// The segment that `operator()` tests, for renderers that trace many at once (packets).
     template <Surface S>
     RESTIR_HOST_DEVICE ShadowSegment segment(const LightPointSample& sample,
                                              const S& surface) const {
+        if (sample.is_distant())
+            return distant_shadow_segment(surface_position(surface), surface_normal(surface),
+                                          sample.position, ray_offset, far_distance);
         return shadow_segment(surface_position(surface), surface_normal(surface), sample.position,
                               sample.normal, ray_offset);
     }

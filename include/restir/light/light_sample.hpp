@@ -30,12 +30,20 @@ struct LightSampleRef {
 
 /// A point on a light, as a light set evaluates a `LightSampleRef`. Point lights and VPLs
 /// are the degenerate case: the same point for every uv, `area_pdf` of 1 and `is_delta`.
+/// A distant light (an environment, `is_distant`) gives a direction instead of a point: the
+/// same direction from every receiver, with its density per steradian (docs/bridge.md,
+/// "Measures").
 struct LightSample {
+    /// The point; for a distant light the unit direction from any receiver towards the light.
     glm::vec3 position{0.0f};
-    glm::vec3 normal{0.0f, 0.0f, 1.0f}; ///< Emitting side of an area light; VPL surface normal.
+    /// Emitting side of an area light; VPL surface normal; zero for a distant light.
+    glm::vec3 normal{0.0f, 0.0f, 1.0f};
     glm::vec3 radiance{0.0f}; ///< Emitted radiance toward the receiver side (intensity for points).
-    float area_pdf = 0.0f;    ///< Density of the point per unit area of the light, given the light.
-    bool is_delta = false;    ///< True for point lights and VPLs (no area measure).
+    /// Density of the point per unit area of the light, given the light; per steradian for a
+    /// distant light.
+    float area_pdf = 0.0f;
+    bool is_delta = false;   ///< True for point lights and VPLs (no area measure).
+    bool is_distant = false; ///< True for a direction (an environment's sample), not a point.
 };
 
 /// Any `LightPoint` (the application's own point record) as a `LightSample`.
@@ -47,6 +55,7 @@ RESTIR_HOST_DEVICE constexpr LightSample to_light_sample(const P& p) {
     point.radiance = p.radiance;
     point.area_pdf = p.area_pdf;
     point.is_delta = p.is_delta;
+    point.is_distant = is_distant_point(p);
     return point;
 }
 

@@ -33,4 +33,18 @@ RESTIR_HOST_DEVICE inline ShadowSegment shadow_segment(glm::vec3 position, glm::
             light_position + light_normal * (light_side * ray_offset)};
 }
 
+/// The shadow ray from a surface point towards a distant light (an environment's direction,
+/// unit `direction`): its start pushed `ray_offset` off the surface to the side the direction
+/// leaves from, its end `far_distance` further along the direction, past everything the ray
+/// could hit (a segment longer than the scene's diameter from any point of the scene leaves it;
+/// `LightPointVisibility::for_scene` takes twice the diagonal of its bounding box).
+RESTIR_HOST_DEVICE inline ShadowSegment distant_shadow_segment(glm::vec3 position, glm::vec3 normal,
+                                                               glm::vec3 direction,
+                                                               float ray_offset,
+                                                               float far_distance) noexcept {
+    const float side = glm::dot(normal, direction) < 0.0f ? -1.0f : 1.0f;
+    const glm::vec3 from = position + normal * (side * ray_offset);
+    return {from, from + direction * far_distance};
+}
+
 } // namespace restir

@@ -36,36 +36,54 @@ concept VisibilityFunction = requires(const F& visible, const Sample& sample,
 /// of the segment inside the surfaces' rounding error, so surfaces shadow themselves: acne,
 /// and a darker image). State it, `{&lights, &query, offset}`, or take the usual scale,
 /// `for_scene(lights, query, scene_extent)`: 1e-4 of the scene's extent (the diagonal of its
-/// bounding box). It must be positive and finite (a debug build checks).
+/// bounding box). It must be positive and finite (a debug build checks). A distant light's
+/// direction is tested up to `far_distance` along it (`distant_shadow_segment`), as
+/// `LightPointVisibility` does.
 template <LightSet Lights, RayQuery Query>
 struct LightVisibility {
     /// The offset `for_scene` takes, relative to the scene's extent.
     static constexpr float relative_ray_offset = 1e-4f;
+    /// The length of shadow rays towards distant lights `for_scene` takes, relative to the
+    /// scene's extent.
+    static constexpr float relative_far_distance = 2.0f;
 
     const Lights* lights;
     const Query* query;
     /// World-space, > 0: both ends of a shadow segment leave their surfaces by it.
     float ray_offset;
+    float far_distance; ///< World-space length of shadow rays towards distant lights, > 0.
 
+    /// `far_distance` defaults to 2e4 times the offset (the scene extent the offset implies
+    /// when it is `relative_ray_offset` of it): state it for any other offset.
     RESTIR_HOST_DEVICE constexpr LightVisibility(const Lights* light_set, const Query* ray_query,
                                                  float offset) noexcept
-        : lights(light_set), query(ray_query), ray_offset(offset) {
+        : LightVisibility(light_set, ray_query, offset,
+                          offset * (relative_far_distance / relative_ray_offset)) {}
+    RESTIR_HOST_DEVICE constexpr LightVisibility(const Lights* light_set, const Query* ray_query,
+                                                 float offset, float far) noexcept
+        : lights(light_set), query(ray_query), ray_offset(offset), far_distance(far) {
         RESTIR_ASSERT(offset > 0.0f && is_finite(offset));
+        RESTIR_ASSERT(far > 0.0f && is_finite(far));
     }
 
-    /// The offset scaled to the scene: `relative_ray_offset` times `scene_extent` (the
-    /// diagonal of the scene's bounding box, in world units).
+    /// The offset and far distance scaled to the scene: `relative_ray_offset` and
+    /// `relative_far_distance` times `scene_extent` (the diagonal of the scene's bounding box,
+    /// in world units).
     RESTIR_HOST_DEVICE static constexpr LightVisibility
     for_scene(const Lights& light_set, const Query& ray_query, float scene_extent) noexcept {
-        return {&light_set, &ray_query, relative_ray_offset * scene_extent};
+        return {&light_set, &ray_query, relative_ray_offset * scene_extent,
+                relative_far_distance * scene_extent};
     }
 
     template <Surface S>
     RESTIR_HOST_DEVICE bool operator()(const LightSampleRef& sample, const S& surface) const {
         const auto point = lights->sample_point(sample.light_id, sample.uv);
         const ShadowSegment segment =
-            shadow_segment(surface_position(surface), surface_normal(surface),
-                           glm::vec3(point.position), glm::vec3(point.normal), ray_offset);
+            is_distant_point(point)
+                ? distant_shadow_segment(surface_position(surface), surface_normal(surface),
+                                         glm::vec3(point.position), ray_offset, far_distance)
+                : shadow_segment(surface_position(surface), surface_normal(surface),
+                                 glm::vec3(point.position), glm::vec3(point.normal), ray_offset);
         return !query->occluded(segment.from, segment.to);
     }
 };

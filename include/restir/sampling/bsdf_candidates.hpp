@@ -32,8 +32,10 @@ namespace restir {
 /// `point.radiance` is the radiance emitted towards the ray's origin (0 on an emitter's back),
 /// `point.normal` the emitter's normal there, and `point.area_pdf` the density per unit area
 /// with which the light candidates of the same RIS produce that point of light `light_id`
-/// (1 / area for uniform area sampling). `found` is false for a miss or a hit on a surface that
-/// does not emit.
+/// (1 / area for uniform area sampling). A ray that leaves the scene towards a distant light (an
+/// environment) finds it: `point.is_distant`, `point.position` the ray's direction and
+/// `point.area_pdf` the light's density per steradian there. `found` is false for a miss (no
+/// distant light) or a hit on a surface that does not emit.
 struct LightHit {
     bool found = false;
     std::uint32_t light_id = 0u;
@@ -58,10 +60,17 @@ struct CandidateCounts {
 };
 
 namespace detail {
-/// Density per unit area of the BSDF strategy at a point of an area light: the solid-angle pdf
-/// of the direction to it, converted (`solid_angle_to_area_pdf`).
+/// Density of the BSDF strategy in the light's own measure: per unit area at a point of an area
+/// light (the solid-angle pdf of the direction to it, converted by `solid_angle_to_area_pdf`),
+/// per steradian for a distant light's direction.
 template <SamplingReceiver R>
-RESTIR_HOST_DEVICE float bsdf_area_pdf(const R& receiver, glm::vec3 point, glm::vec3 light_normal) {
+RESTIR_HOST_DEVICE float bsdf_light_pdf(const R& receiver, const LightPointSample& light) {
+    if (light.is_distant()) {
+        const float pdf = static_cast<float>(receiver.direction_pdf(light.position));
+        return is_valid_weight(pdf) ? pdf : 0.0f;
+    }
+    const glm::vec3 point = light.position;
+    const glm::vec3 light_normal = light.normal;
     const glm::vec3 from = receiver.position;
     const glm::vec3 x = point - from;
     const float d2 = glm::dot(x, x);
@@ -80,6 +89,8 @@ RESTIR_HOST_DEVICE float bsdf_area_pdf(const R& receiver, glm::vec3 point, glm::
 /// (Lin et al. 2022, Eq. 3.4; `resample_ris_mis`): in the area measure, with x a point on a light,
 ///   w_i = p-hat(x_i) / (M_light p_light(x_i) + M_bsdf p_bsdf(x_i)),
 ///   p_light(x) = pmf(light at `at`) area_pdf(x),  p_bsdf(x) = pdf_wi(x) |cos theta_light| / d^2,
+/// and in the solid-angle measure for a distant light's direction (p_light = pmf pdf_light(wi),
+/// p_bsdf = pdf_wi(wi): both strategies meet there in the same measure, docs/bridge.md),
 /// p-hat(x) = |Le f G| (fold_channels<Norm>), W = w_sum / p-hat(y). Delta lights (points, VPLs) are
 /// in the counting measure with p_bsdf = 0: a BSDF ray never hits them, so their MIS weight is 1
 /// for light candidates, and RIS stays unbiased for them through the light strategy alone (as it
@@ -117,8 +128,7 @@ resample_lights_and_bsdf(Rng& rng, const CandidateCounts& counts, const Sampler&
             const float area_pdf = is_delta ? 1.0f : static_cast<float>(point.area_pdf);
             x = make_light_point_sample(choice.index, point, falloff);
             target_value = target(x); // p-hat / area_pdf
-            const float p_bsdf =
-                is_delta ? 0.0f : detail::bsdf_area_pdf(receiver, x.position, x.normal);
+            const float p_bsdf = is_delta ? 0.0f : detail::bsdf_light_pdf(receiver, x);
             weight = safe_divide(target_value * area_pdf,
                                  m_light * choice.pmf * area_pdf + m_bsdf * p_bsdf);
         }
@@ -140,8 +150,11 @@ resample_lights_and_bsdf(Rng& rng, const CandidateCounts& counts, const Sampler&
                 target_value = target(x); // p-hat / area_pdf
                 const float p_light = sampler.pmf(at, hit.light_id) * area_pdf;
                 // The direction's own density, converted: no second evaluation of the pdf.
-                const float p_bsdf = solid_angle_to_area_pdf(
-                    direction.pdf, glm::vec3(receiver.position), x.position, x.normal);
+                const float p_bsdf =
+                    x.is_distant()
+                        ? direction.pdf
+                        : solid_angle_to_area_pdf(direction.pdf, glm::vec3(receiver.position),
+                                                  x.position, x.normal);
                 weight = safe_divide(target_value * area_pdf, m_light * p_light + m_bsdf * p_bsdf);
             }
         }

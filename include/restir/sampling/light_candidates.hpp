@@ -99,14 +99,15 @@ draw_receiver_light_candidate(const Sampler& sampler, const Lights& lights, glm:
 /// contribution in the new map: sum_l int g = sum_l h(l). And f(l, u') for an independent
 /// uniform u' is an unbiased estimate of h(l). So f(l, u') W / coverage(l) is unbiased, and
 /// W' = W / coverage is a contribution weight of (l, u') for reuse as well. Delta lights keep
-/// their sample (their point does not depend on uv). A redrawn point that the receiver cannot
-/// see (p-hat 0) leaves an empty reservoir, which changes no estimate.
+/// their sample (their point does not depend on uv), and so do distant lights (their direction
+/// does not depend on the receiver, and has no coverage to correct). A redrawn point that the
+/// receiver cannot see (p-hat 0) leaves an empty reservoir, which changes no estimate.
 template <ReceiverLightSet Lights, class Target>
 RESTIR_HOST_DEVICE Reservoir<LightPointSample>
 redraw_point_from_receiver(const Reservoir<LightPointSample>& chosen, float coverage,
                            const Lights& lights, glm::vec2 uv, glm::vec3 from,
                            const Falloff& falloff, const Target& target) {
-    if (!chosen.has_sample() || !(chosen.contribution_weight > 0.0f))
+    if (!chosen.has_sample() || !(chosen.contribution_weight > 0.0f) || chosen.sample.is_distant())
         return chosen;
     const std::uint32_t id = chosen.sample.light_id;
     const auto point = lights.sample_point(id, uv, from);

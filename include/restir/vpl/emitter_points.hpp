@@ -41,7 +41,7 @@ RESTIR_HOST_DEVICE glm::vec3 emitted_flux(const P& point, std::uint32_t sample_c
 /// point lights (a jittered s x s grid in the emitter's uv square, s = floor(sqrt(n)), then
 /// n - s^2 random points; delta lights once), each carrying its share of the emitter's flux,
 /// so that their fluxes sum to an unbiased estimate of the emitted flux. Deterministic in
-/// `seed`. Points with zero or non-finite flux are left out.
+/// `seed`. Points with zero or non-finite flux are left out, and so are distant lights.
 template <LightSet Lights>
 std::vector<EmitterPoint>
 make_emitter_points(const Lights& lights, std::uint32_t points_per_emitter, std::uint64_t seed) {
@@ -59,6 +59,8 @@ make_emitter_points(const Lights& lights, std::uint32_t points_per_emitter, std:
                 flux.x + flux.y + flux.z > 0.0f)
                 points.push_back({point.position, point.normal, flux});
         };
+        if (is_distant_point(lights.sample_point(id, glm::vec2(0.5f))))
+            continue; // a distant light shoots its photons from the sky (`PhotonSource`)
         if (lights.sample_point(id, glm::vec2(0.5f)).is_delta) {
             keep(lights.sample_point(id, glm::vec2(0.5f)), 1u);
             continue;
