@@ -1,0 +1,361 @@
+/// @file light/environment_map.hpp
+/// An environment light: an equirectangular map of radiance arriving from infinitely far away,
+/// looked up piecewise constant and importance-sampled in O(1) in proportion to luminance times
+/// solid angle (a marginal alias table over rows, a conditional one per row; the 2D
+/// piecewise-constant construction of Pharr, Jakob and Humphreys, "Physically Based Rendering",
+/// 3rd ed., section 13.6.7, with Walker's alias tables in place of CDF inversion).
+#pragma once
+
+#include "restir/config.hpp"
+#include "restir/core/math.hpp"
+#include "restir/sampling/alias_table.hpp"
+#include "restir/sampling/alias_table_view.hpp"
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <numbers>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+namespace restir {
+
+/// A direction drawn from an environment: unit direction towards the sky, the radiance arriving
+/// from it (scale applied), and its density per steradian (0 where the map is black).
+struct EnvironmentSample {
+    glm::vec3 direction{0.0f, 1.0f, 0.0f};
+    glm::vec3 radiance{0.0f};
+    float pdf = 0.0f; ///< solid angle
+};
+
+/// Equirectangular mapping, +Y up: v = theta / pi with theta = acos(d.y) (row 0 at +Y), and
+/// u = 0.5 + atan2(d.x, -d.z) / (2 pi) (the image centre looks down -Z, u = 0.75 is +X). This is
+/// the map's own frame, before the rotation about +Y. `direction` should be unit length (its y
+/// is clamped to [-1, 1]); the result lies in [0, 1]^2.
+RESTIR_HOST_DEVICE inline glm::vec2 equirect_uv(glm::vec3 direction) {
+    const float y = max_of(-1.0f, min_of(direction.y, 1.0f));
+    const float u = 0.5f + std::atan2(direction.x, -direction.z) * (0.5f * inv_pi);
+    const float v = std::acos(y) * inv_pi;
+    return {max_of(0.0f, min_of(u, 1.0f)), max_of(0.0f, min_of(v, 1.0f))};
+}
+
+/// The unit direction at `uv` of the equirectangular mapping (inverse of `equirect_uv`):
+/// theta = pi v, phi = 2 pi (u - 0.5), d = (sin theta sin phi, cos theta, -sin theta cos phi).
+RESTIR_HOST_DEVICE inline glm::vec3 equirect_direction(glm::vec2 uv) {
+    const float theta = pi * uv.y;
+    const float phi = two_pi * (uv.x - 0.5f);
+    const float sin_theta = std::sin(theta);
+    return {sin_theta * std::sin(phi), std::cos(theta), -sin_theta * std::cos(phi)};
+}
+
+/// Rec. 709 luminance, the sampling weight of a texel's radiance.
+RESTIR_HOST_DEVICE inline float environment_luminance(glm::vec3 radiance) {
+    return 0.2126f * radiance.x + 0.7152f * radiance.y + 0.0722f * radiance.z;
+}
+
+namespace detail {
+
+/// An alias-table choice made from one uniform number, with what is left of the number.
+struct ReusedChoice {
+    std::uint32_t index = 0u;
+    float rest = 0.0f; ///< In [0, 1): uniform again, independent of the index given it.
+};
+
+/// Picks a bucket of `entries` (`count` > 0) from the top bits of u, tests the bucket's
+/// threshold with the bits left below them, and remaps what is left after the test to [0, 1)
+/// (as pbrt-v4's SampleDiscrete remaps its number): fraction / t when the bucket is kept,
+/// (fraction - t) / (1 - t) when its alias is taken.
+RESTIR_HOST_DEVICE inline ReusedChoice choose_reusing(const AliasEntry* entries,
+                                                      std::uint32_t count, float u) {
+    const std::uint64_t scaled = std::uint64_t{unit_bits24(u)} * count;
+    const auto bucket = static_cast<std::uint32_t>(scaled >> 24);
+    const AliasEntry entry = entries[bucket];
+    // Both exact in float: the fraction is below 2^24, the threshold scaled by a power of two.
+    const auto fraction = static_cast<float>(static_cast<std::uint32_t>(scaled & 0xffffffu));
+    const float threshold = entry.threshold * 16777216.0f;
+    const bool keep = fraction < threshold;
+    // Kept: fraction < threshold, so the divisor is > 0; aliased: threshold <= fraction < 2^24.
+    const float numerator = select_float(keep, fraction, fraction - threshold);
+    const float denominator = select_float(keep, threshold, 16777216.0f - threshold);
+    const float rest = min_of(numerator / denominator, 0.99999994f);
+    return {select_bits(keep, bucket, entry.alias), rest};
+}
+
+} // namespace detail
+
+/// Device-callable view over memory the host builder `EnvironmentMap` owns (copy the arrays for
+/// a kernel). Trivially copyable; a default-constructed view is empty (black everywhere).
+struct EnvironmentMapView {
+    /// width * height linear RGB radiance, row-major, row 0 at +Y.
+    const glm::vec3* texels = nullptr;
+    std::uint32_t width = 0u;
+    std::uint32_t height = 0u;
+    /// Marginal alias table over rows (`height` entries), weights sum_x luminance * solid angle.
+    const AliasEntry* row_table = nullptr;
+    /// One conditional alias table per row (`width` entries each, row after row), weights the
+    /// texels' luminance; indices are within the row.
+    const AliasEntry* column_tables = nullptr;
+    /// cos theta at the `height + 1` row boundaries: cos(pi y / height), from 1 down to -1.
+    const float* row_cos = nullptr;
+    /// 1 / (integral of luminance over the sphere), scale not applied: the density per
+    /// steradian is a texel's luminance times this.
+    float inverse_luminance_integral = 0.0f;
+    float scale = 1.0f; ///< radiance multiplier (--env-scale)
+    /// Rotation of the map about +Y (--env-rotate): the map's direction d is seen at world
+    /// direction R d, R = [[c, 0, s], [0, 1, 0], [-s, 0, c]] (right-handed, by the angle).
+    float rotation_cos = 1.0f;
+    float rotation_sin = 0.0f;
+
+    /// No texels: radiance and pdf are 0 everywhere and `sample` returns pdf 0.
+    RESTIR_HOST_DEVICE bool empty() const {
+        return texels == nullptr || width == 0u || height == 0u;
+    }
+
+    /// World direction to the map's own frame (the inverse rotation, R^T d).
+    RESTIR_HOST_DEVICE glm::vec3 to_map(glm::vec3 world) const {
+        return {rotation_cos * world.x - rotation_sin * world.z, world.y,
+                rotation_sin * world.x + rotation_cos * world.z};
+    }
+
+    /// The map's own direction to the world (R d).
+    RESTIR_HOST_DEVICE glm::vec3 to_world(glm::vec3 map) const {
+        return {rotation_cos * map.x + rotation_sin * map.z, map.y,
+                -rotation_sin * map.x + rotation_cos * map.z};
+    }
+
+    /// Row-major index of the texel that the unit world `direction` falls in (the nearest texel
+    /// of the piecewise-constant lookup). Requires !empty().
+    RESTIR_HOST_DEVICE std::uint32_t texel_index(glm::vec3 direction) const {
+        const glm::vec2 uv = equirect_uv(to_map(direction));
+        return uniform_index(uv.y, height) * width + uniform_index(uv.x, width);
+    }
+
+    /// Radiance arriving from the unit world `direction`: the texel it falls in, times scale.
+    RESTIR_HOST_DEVICE glm::vec3 radiance(glm::vec3 direction) const {
+        if (empty())
+            return glm::vec3(0.0f);
+        return texels[texel_index(direction)] * scale;
+    }
+
+    /// Density per steradian with which `sample` returns the unit world `direction`:
+    /// luminance(texel) / integral of luminance over the sphere, constant within a texel.
+    RESTIR_HOST_DEVICE float pdf(glm::vec3 direction) const {
+        if (empty())
+            return 0.0f;
+        return environment_luminance(texels[texel_index(direction)]) * inverse_luminance_integral;
+    }
+
+    /// A direction with density `pdf` from exactly two uniform numbers in [0, 1), in O(1): u.x
+    /// picks the row (marginal table), u.y the texel in it (its conditional table), and what
+    /// each number has left after its choice places the direction uniformly in (phi, cos theta)
+    /// inside the texel. Two table reads and one texel read.
+    RESTIR_HOST_DEVICE EnvironmentSample sample(glm::vec2 u) const {
+        if (empty())
+            return {};
+        const detail::ReusedChoice row = detail::choose_reusing(row_table, height, u.x);
+        const detail::ReusedChoice column =
+            detail::choose_reusing(column_tables + std::size_t{row.index} * width, width, u.y);
+        const float cos_top = row_cos[row.index];
+        const float cos_bottom = row_cos[row.index + 1u];
+        const float cos_theta = cos_top + row.rest * (cos_bottom - cos_top);
+        // (1 - c)(1 + c): no cancellation near the poles.
+        const float sin_theta = std::sqrt(max_of(0.0f, (1.0f - cos_theta) * (1.0f + cos_theta)));
+        const float phi =
+            two_pi *
+            ((static_cast<float>(column.index) + column.rest) / static_cast<float>(width) - 0.5f);
+        const glm::vec3 map_direction{sin_theta * std::sin(phi), cos_theta,
+                                      -sin_theta * std::cos(phi)};
+        const glm::vec3 texel = texels[std::size_t{row.index} * width + column.index];
+        return {to_world(map_direction), texel * scale,
+                environment_luminance(texel) * inverse_luminance_integral};
+    }
+};
+
+static_assert(std::is_trivially_copyable_v<EnvironmentMapView>);
+
+/// Host owner and builder of an environment map and its sampling tables. Throws
+/// std::invalid_argument with a one-line message for: width or height 0, width * height
+/// > 2^27, a texel span whose size is not width * height, a NaN, infinite or negative texel
+/// channel (the message names the texel x, y), a map whose luminance is zero everywhere (or
+/// whose luminance integral is outside float range), a scale that is not finite and > 0, and a
+/// rotation that is not finite.
+class EnvironmentMap {
+public:
+    /// Most texels a map may have (2^27: 1.5 GiB of texels and 2 GiB of tables).
+    static constexpr std::uint64_t max_texels = std::uint64_t{1} << 27;
+
+    EnvironmentMap() = default;
+
+    /// Copies `texels` (width * height linear RGB, row-major, row 0 at +Y) and builds the tables
+    /// in O(width * height). `rotation_radians` turns the map about +Y (see
+    /// `EnvironmentMapView::rotation_cos`).
+    EnvironmentMap(std::span<const glm::vec3> texels, std::uint32_t width, std::uint32_t height,
+                   float scale = 1.0f, float rotation_radians = 0.0f) {
+        validate(texels, width, height, scale, rotation_radians);
+        width_ = width;
+        height_ = height;
+        scale_ = scale;
+        rotation_cos_ = static_cast<float>(std::cos(static_cast<double>(rotation_radians)));
+        rotation_sin_ = static_cast<float>(std::sin(static_cast<double>(rotation_radians)));
+        texels_.assign(texels.begin(), texels.end());
+        build_tables();
+    }
+
+    /// A view that stays valid while this map lives and is not assigned to.
+    EnvironmentMapView view() const {
+        if (texels_.empty())
+            return {};
+        return {texels_.data(),
+                width_,
+                height_,
+                row_table_.data(),
+                column_tables_.data(),
+                row_cos_.data(),
+                inverse_luminance_integral_,
+                scale_,
+                rotation_cos_,
+                rotation_sin_};
+    }
+
+    std::uint32_t width() const { return width_; }
+    std::uint32_t height() const { return height_; }
+
+    /// The integral of radiance over the sphere, RGB, scale applied: the sum over texels of
+    /// L * (texel solid angle) * scale. The power that the sky sends through a disk of area A,
+    /// from all directions, is A times this integral weighted by |cos| (a sphere of radius R
+    /// receives pi R^2 times it); used for power estimates.
+    glm::vec3 radiance_integral() const { return radiance_integral_; }
+
+    /// Bytes of the sampling tables (rows, per-row conditionals, row boundaries), not the
+    /// texels: what a draw reads besides one texel.
+    std::size_t table_bytes() const {
+        return row_table_.size() * sizeof(AliasEntry) + column_tables_.size() * sizeof(AliasEntry) +
+               row_cos_.size() * sizeof(float);
+    }
+
+    /// The texels, for copying to another memory space.
+    std::span<const glm::vec3> texels() const { return texels_; }
+    /// The marginal table over rows, for copying.
+    std::span<const AliasEntry> row_table() const { return row_table_; }
+    /// The conditional tables, row after row, for copying.
+    std::span<const AliasEntry> column_tables() const { return column_tables_; }
+    /// The cos theta of the row boundaries, for copying.
+    std::span<const float> row_cos() const { return row_cos_; }
+
+private:
+    static void validate(std::span<const glm::vec3> texels, std::uint32_t width,
+                         std::uint32_t height, float scale, float rotation_radians) {
+        if (width == 0u || height == 0u)
+            throw std::invalid_argument("environment map: width and height must be > 0, got " +
+                                        std::to_string(width) + " x " + std::to_string(height));
+        const std::uint64_t count = std::uint64_t{width} * height;
+        if (count > max_texels)
+            throw std::invalid_argument("environment map: " + std::to_string(width) + " x " +
+                                        std::to_string(height) + " is more than 2^27 texels");
+        if (texels.size() != count)
+            throw std::invalid_argument("environment map: " + std::to_string(texels.size()) +
+                                        " texels given for " + std::to_string(width) + " x " +
+                                        std::to_string(height));
+        if (!(is_finite(scale) && scale > 0.0f))
+            throw std::invalid_argument("environment map: scale must be finite and > 0, got " +
+                                        std::to_string(scale));
+        if (!is_finite(rotation_radians))
+            throw std::invalid_argument("environment map: rotation must be finite");
+        for (std::size_t i = 0; i < texels.size(); ++i) {
+            const glm::vec3 t = texels[i];
+            // is_finite on the bits, and !(c >= 0) also catches NaN.
+            if (!(t.x >= 0.0f && t.y >= 0.0f && t.z >= 0.0f && is_finite(t.x) && is_finite(t.y) &&
+                  is_finite(t.z)))
+                throw std::invalid_argument("environment map: texel (" + std::to_string(i % width) +
+                                            ", " + std::to_string(i / width) +
+                                            ") has a negative, NaN or infinite channel");
+        }
+    }
+
+    static double luminance_of(glm::vec3 c) {
+        return 0.2126 * static_cast<double>(c.x) + 0.7152 * static_cast<double>(c.y) +
+               0.0722 * static_cast<double>(c.z);
+    }
+
+    // Per row: the conditional table over its texels' luminance, and the row's weight
+    // (sum of luminance) times its texels' solid angle (2 pi / width)(cos top - cos bottom).
+    void build_tables() {
+        const std::size_t w = width_;
+        row_cos_.resize(std::size_t{height_} + 1u);
+        for (std::uint32_t y = 0; y <= height_; ++y)
+            row_cos_[y] =
+                static_cast<float>(std::cos(std::numbers::pi * static_cast<double>(y) / height_));
+        row_cos_.front() = 1.0f;
+        row_cos_.back() = -1.0f;
+        column_tables_.assign(w * height_, AliasEntry{});
+        std::vector<double> row_weight(height_, 0.0);
+        std::vector<float> weights(w);
+        glm::dvec3 radiance_sum(0.0);
+        double luminance_integral = 0.0;
+        for (std::uint32_t y = 0; y < height_; ++y) {
+            const double top = std::cos(std::numbers::pi * y / height_);
+            const double bottom = std::cos(std::numbers::pi * (y + 1.0) / height_);
+            const double solid_angle =
+                2.0 * std::numbers::pi / static_cast<double>(w) * (top - bottom);
+            const glm::vec3* row = texels_.data() + y * w;
+            double luminance_sum = 0.0, largest = 0.0;
+            glm::dvec3 row_radiance(0.0);
+            for (std::size_t x = 0; x < w; ++x) {
+                const double l = luminance_of(row[x]);
+                luminance_sum += l;
+                largest = l > largest ? l : largest;
+                row_radiance += glm::dvec3(row[x]);
+            }
+            radiance_sum += row_radiance * solid_angle;
+            luminance_integral += luminance_sum * solid_angle;
+            row_weight[y] = luminance_sum * solid_angle;
+            if (largest > 0.0) {
+                // Relative to the row's largest luminance: in float range whatever the texels.
+                for (std::size_t x = 0; x < w; ++x)
+                    weights[x] = static_cast<float>(luminance_of(row[x]) / largest);
+                const AliasTable table(weights);
+                std::copy(table.entries().begin(), table.entries().end(),
+                          column_tables_.begin() + static_cast<std::ptrdiff_t>(y * w));
+            }
+            // A black row keeps default entries (pmf 0): the marginal never picks it.
+        }
+        if (!(luminance_integral > 0.0))
+            throw std::invalid_argument("environment map: the luminance is zero everywhere");
+        const auto inverse = static_cast<float>(1.0 / luminance_integral);
+        if (!(is_finite(inverse) && inverse > 0.0f &&
+              is_finite(static_cast<float>(luminance_integral))))
+            throw std::invalid_argument(
+                "environment map: the luminance integral is outside float range");
+        inverse_luminance_integral_ = inverse;
+        double largest_row = 0.0;
+        for (double r : row_weight)
+            largest_row = r > largest_row ? r : largest_row;
+        std::vector<float> row_weights(height_);
+        for (std::uint32_t y = 0; y < height_; ++y)
+            row_weights[y] = static_cast<float>(row_weight[y] / largest_row);
+        const AliasTable rows(row_weights);
+        row_table_.assign(rows.entries().begin(), rows.entries().end());
+        radiance_integral_ = glm::vec3(radiance_sum * static_cast<double>(scale_));
+    }
+
+    std::vector<glm::vec3> texels_;
+    std::vector<AliasEntry> row_table_;
+    std::vector<AliasEntry> column_tables_;
+    std::vector<float> row_cos_;
+    std::uint32_t width_ = 0u;
+    std::uint32_t height_ = 0u;
+    float scale_ = 1.0f;
+    float rotation_cos_ = 1.0f;
+    float rotation_sin_ = 0.0f;
+    float inverse_luminance_integral_ = 0.0f;
+    glm::vec3 radiance_integral_{0.0f};
+};
+
+} // namespace restir
