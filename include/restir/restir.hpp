@@ -15,6 +15,7 @@
 #include "restir/core/math.hpp"
 #include "restir/core/reservoir.hpp"
 #include "restir/core/rng.hpp"
+#include "restir/light/environment_light.hpp"
 #include "restir/light/environment_map.hpp"
 #include "restir/light/falloff.hpp"
 #include "restir/light/irradiance.hpp"

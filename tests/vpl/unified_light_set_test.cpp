@@ -100,3 +100,107 @@ TEST(UnifiedLightSet, RisOverEmittersAndVplsIsUnbiased) {
 }
 
 } // namespace
+
+namespace {
+
+// A 4 x 2 sky: a bright texel in the upper half, dimmer elsewhere.
+restir::EnvironmentMap small_sky() {
+    std::vector<glm::vec3> texels(8u, glm::vec3(0.2f, 0.3f, 0.5f));
+    texels[1] = glm::vec3(5.0f, 4.0f, 3.0f);
+    return restir::EnvironmentMap(texels, 4u, 2u);
+}
+
+TEST(UnifiedLightSet, EnvironmentSitsBetweenEmittersAndVplsAsADistantLight) {
+    const RectangleLights emitters = two_rectangles();
+    const std::vector<restir::Vpl> vpls = some_vpls();
+    const restir::EnvironmentMap sky = small_sky();
+    const Unified lights{&emitters, vpls.data(), static_cast<std::uint32_t>(vpls.size()),
+                         sky.view()};
+    EXPECT_EQ(lights.light_count(), 3u + vpls.size());
+    EXPECT_EQ(lights.environment_id(), 2u);
+    EXPECT_TRUE(lights.is_environment(2u));
+    EXPECT_FALSE(lights.is_vpl(2u));
+    EXPECT_TRUE(lights.is_vpl(3u));
+    EXPECT_EQ(lights.sample_point(3u + 5u, glm::vec2(0.3f)).position, vpls[5].position);
+    const restir::LightSample d = lights.sample_point(2u, glm::vec2(0.3f, 0.6f));
+    const restir::EnvironmentSample expected = sky.view().sample(glm::vec2(0.3f, 0.6f));
+    EXPECT_TRUE(d.is_distant);
+    EXPECT_FALSE(d.is_delta);
+    EXPECT_EQ(d.position, expected.direction);
+    EXPECT_EQ(d.radiance, expected.radiance);
+    EXPECT_EQ(d.area_pdf, expected.pdf);
+
+    EXPECT_THROW(restir::unified_light_powers(lights), std::invalid_argument);
+    const float radius = 2.0f;
+    const std::vector<float> powers =
+        restir::unified_light_powers(lights, restir::environment_power(sky, radius));
+    const glm::vec3 integral = sky.radiance_integral();
+    EXPECT_FLOAT_EQ(powers[2], 3.14159265f * radius * radius * channel_sum(integral));
+    EXPECT_FLOAT_EQ(powers[3], channel_sum(vpls[0].flux));
+    // Without an environment nothing moves.
+    const Unified plain{&emitters, vpls.data(), static_cast<std::uint32_t>(vpls.size())};
+    EXPECT_EQ(plain.first_vpl(), 2u);
+    EXPECT_FALSE(plain.is_environment(2u));
+}
+
+// RIS over emitters and the sky, by power, estimates the irradiance of both: the sky's part by
+// quadrature over the map's texels (the part above the receiver's horizon).
+TEST(UnifiedLightSet, RisOverEmittersAndTheSkyIsUnbiased) {
+    const RectangleLights emitters = two_rectangles();
+    const restir::EnvironmentMap sky = small_sky();
+    const Unified lights{&emitters, nullptr, 0u, sky.view()};
+    const restir::AliasTable table(
+        restir::unified_light_powers(lights, restir::environment_power(sky, 1.0f)));
+    const restir::PowerLightSampler sampler{table.view()};
+    const glm::vec3 receiver(0.1f, -0.6f, 0.2f);
+    const glm::vec3 normal = glm::normalize(glm::vec3(0.2f, 1.0f, 0.1f));
+    const auto irradiance = [&](const restir::LightSampleRef& ref) {
+        return channel_sum(restir::unshadowed_irradiance(lights.sample_point(ref.light_id, ref.uv),
+                                                         receiver, normal, restir::Falloff{}));
+    };
+    double truth = 0.0;
+    constexpr int grid = 1000;
+    for (std::uint32_t id = 0; id < 2u; ++id) {
+        double sum = 0.0;
+        for (int i = 0; i < grid; ++i)
+            for (int j = 0; j < grid; ++j)
+                sum += static_cast<double>(
+                    irradiance({id, glm::vec2((static_cast<float>(i) + 0.5f) / grid,
+                                              (static_cast<float>(j) + 0.5f) / grid)}));
+        truth += sum / (static_cast<double>(grid) * grid);
+    }
+    // The sky: L cos over (phi, cos theta) cells (d omega = d phi d cos theta).
+    const restir::EnvironmentMapView view = sky.view();
+    double sky_part = 0.0;
+    for (int i = 0; i < grid; ++i)
+        for (int j = 0; j < grid; ++j) {
+            const double z = 1.0 - 2.0 * (i + 0.5) / grid;
+            const double phi = 2.0 * 3.14159265358979323846 * (j + 0.5) / grid;
+            const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+            const glm::vec3 w(static_cast<float>(r * std::cos(phi)), static_cast<float>(z),
+                              static_cast<float>(r * std::sin(phi)));
+            sky_part += static_cast<double>(channel_sum(view.radiance(w))) *
+                        std::max(0.0, static_cast<double>(glm::dot(normal, w)));
+        }
+    truth += sky_part * 4.0 * 3.14159265358979323846 / (static_cast<double>(grid) * grid);
+
+    restir::test::RunningStats stats;
+    for (std::uint32_t trial = 0; trial < 20000u; ++trial) {
+        restir::Pcg32 rng = restir::make_pixel_rng(trial, 0u, 0u, 5u);
+        const auto reservoir = restir::resample_ris(
+            rng, 8u,
+            [&](restir::Pcg32& g) {
+                const restir::DiscreteSample c = restir::sample_light(sampler, g);
+                const float u = restir::next_float(g);
+                const float v = restir::next_float(g);
+                return restir::SourceSample<restir::LightSampleRef>{{c.index, {u, v}}, c.pmf};
+            },
+            irradiance);
+        stats.add(reservoir.has_sample() ? static_cast<double>(irradiance(reservoir.sample) *
+                                                               reservoir.contribution_weight)
+                                         : 0.0);
+    }
+    EXPECT_TRUE(restir::test::agrees_with(stats, truth));
+}
+
+} // namespace
