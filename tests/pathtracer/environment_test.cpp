@@ -100,6 +100,15 @@ TEST(Environment, SunSkyHasItsSunWhereStatedAndAGradient) {
     const glm::vec3 zenith = environment->radiance({0.0f, 1.0f, 0.0f});
     const glm::vec3 horizon = environment->radiance(glm::normalize(glm::vec3{0.0f, 0.02f, 1.0f}));
     const glm::vec3 ground = environment->radiance(glm::normalize(glm::vec3{0.3f, -1.0f, 0.2f}));
+    std::printf("sun-sky %ux%u: sky E %.4f, sun E %.4f, %u sun texels of luminance %.4g; "
+                "zenith (%.3f %.3f %.3f), horizon (%.3f %.3f %.3f), ground (%.3f %.3f %.3f)\n",
+                params.width, params.height, static_cast<double>(figures.sky_irradiance),
+                static_cast<double>(figures.sun_irradiance), figures.sun_texels, sun_radiance,
+                static_cast<double>(zenith.x), static_cast<double>(zenith.y),
+                static_cast<double>(zenith.z), static_cast<double>(horizon.x),
+                static_cast<double>(horizon.y), static_cast<double>(horizon.z),
+                static_cast<double>(ground.x), static_cast<double>(ground.y),
+                static_cast<double>(ground.z));
     EXPECT_GT(zenith.z / zenith.x, 2.0f * horizon.z / horizon.x); // bluer above
     EXPECT_GT(luminance(horizon), 2.0 * luminance(zenith));       // brighter low
     EXPECT_LT(luminance(ground), luminance(zenith));              // dim below
