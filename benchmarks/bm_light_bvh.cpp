@@ -2,7 +2,10 @@
 // it, one draw (`BM_LightBvh_Sample`) and one pmf at a shading point, beside one draw of the
 // power sampler (alias table) over the same lights, and `BM_RandomRead`: the machine's time for
 // one read that depends on the last, at random places in arrays of 1-64 MB, the floor under a
-// draw whose data does not fit in cache.
+// draw whose data does not fit in cache. `BM_Environment_Sample` and `BM_Environment_Pdf`: one
+// draw and one pdf of an environment light (restir/light/environment_map.hpp) at 1024 x 512 and
+// 4096 x 2048, whose sampling tables (8 and 128 MiB, the `table_bytes` counter) BM_RandomRead
+// also covers.
 //
 // The lights fill a 10^3 box: a third small area lights facing random directions, a third
 // cosine point emitters (VPLs), a third isotropic points, powers over three decades. The
@@ -10,11 +13,13 @@
 // pixels of an image would be, so that consecutive draws descend through nearby nodes.
 #include "restir/core/discrete_sample.hpp"
 #include "restir/core/rng.hpp"
+#include "restir/light/environment_map.hpp"
 #include "restir/light/light_bvh.hpp"
 #include "restir/sampling/alias_table.hpp"
 #include "restir/sampling/light_sampler.hpp"
 
 #include <benchmark/benchmark.h>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 #include <cmath>
@@ -177,7 +182,67 @@ void BM_RandomRead(benchmark::State& state) {
         benchmark::DoNotOptimize(at);
     }
     state.SetItemsProcessed(state.iterations());
+    state.counters["bytes"] = static_cast<double>(std::size_t{count} * sizeof(Line));
 }
-BENCHMARK(BM_RandomRead)->Arg(1)->Arg(4)->Arg(8)->Arg(16)->Arg(64);
+// 8 and 128 MiB: the environment light's sampling tables at 1024 x 512 and 4096 x 2048.
+BENCHMARK(BM_RandomRead)->Arg(1)->Arg(4)->Arg(8)->Arg(16)->Arg(64)->Arg(128);
+
+// A sky of width x (width / 2) texels: a gradient from a bright zenith to a dark ground, bluer
+// away from the sun, and a sun of radius 0.5 degrees at 10^4 times the sky's radiance.
+const restir::EnvironmentMap& environment(std::uint32_t width) {
+    static std::map<std::uint32_t, restir::EnvironmentMap> cache;
+    auto it = cache.find(width);
+    if (it != cache.end())
+        return it->second;
+    const std::uint32_t height = width / 2u;
+    std::vector<glm::vec3> texels(std::size_t{width} * height);
+    const glm::vec3 sun = restir::equirect_direction({0.3f, 0.3f});
+    for (std::uint32_t y = 0u; y < height; ++y) {
+        for (std::uint32_t x = 0u; x < width; ++x) {
+            const glm::vec3 d = restir::equirect_direction(
+                {(static_cast<float>(x) + 0.5f) / static_cast<float>(width),
+                 (static_cast<float>(y) + 0.5f) / static_cast<float>(height)});
+            const float sky = d.y > 0.0f ? 0.3f + 0.7f * d.y : 0.05f;
+            const float cos_to_sun = sun.x * d.x + sun.y * d.y + sun.z * d.z;
+            glm::vec3 c = sky * glm::vec3(0.7f + 0.3f * cos_to_sun, 0.6f, 1.0f);
+            if (cos_to_sun > 0.999962f) // cos(0.5 degrees)
+                c = glm::vec3(1e4f, 9e3f, 8e3f);
+            texels[std::size_t{y} * width + x] = c;
+        }
+    }
+    return cache.emplace(width, restir::EnvironmentMap(texels, width, height)).first->second;
+}
+
+// One draw (direction, radiance and pdf) from two uniform numbers; the time is per draw.
+void BM_Environment_Sample(benchmark::State& state) {
+    const restir::EnvironmentMap& map = environment(static_cast<std::uint32_t>(state.range(0)));
+    const restir::EnvironmentMapView view = map.view();
+    restir::Pcg32 rng = restir::make_pixel_rng(5u, 0u, 0u, 1u);
+    for (auto _ : state) {
+        const float u0 = next_float(rng);
+        const float u1 = next_float(rng);
+        const restir::EnvironmentSample s = view.sample({u0, u1});
+        benchmark::DoNotOptimize(s);
+    }
+    state.SetItemsProcessed(state.iterations());
+    state.counters["table_bytes"] = static_cast<double>(map.table_bytes());
+}
+BENCHMARK(BM_Environment_Sample)->Arg(1024)->Arg(4096);
+
+// The pdf of a uniformly random direction (the BSDF-sampled side of MIS); the time is per call.
+void BM_Environment_Pdf(benchmark::State& state) {
+    const restir::EnvironmentMapView view =
+        environment(static_cast<std::uint32_t>(state.range(0))).view();
+    restir::Pcg32 rng = restir::make_pixel_rng(6u, 0u, 0u, 1u);
+    for (auto _ : state) {
+        const float z = 1.0f - 2.0f * next_float(rng);
+        const float phi = 6.2831853f * next_float(rng);
+        const float r = std::sqrt(1.0f - z * z);
+        const float pdf = view.pdf({r * std::cos(phi), z, r * std::sin(phi)});
+        benchmark::DoNotOptimize(pdf);
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_Environment_Pdf)->Arg(1024)->Arg(4096);
 
 } // namespace

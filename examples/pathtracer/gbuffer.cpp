@@ -1,5 +1,7 @@
 #include "gbuffer.hpp"
 
+#include "environment.hpp"
+
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 
@@ -23,16 +25,20 @@ T to_unorm(float v, float max) {
     return static_cast<T>(std::clamp(v, 0.0f, 1.0f) * max + 0.5f);
 }
 
-} // namespace
-
 // The octahedral map: the unit sphere onto the square [-1, 1]^2 (Cigolle et al. 2014).
-void set_view_and_material(GSurface& s, glm::vec3 wo, const Material& m, std::uint32_t index) {
+std::uint32_t octahedral(glm::vec3 wo) {
     const glm::vec3 p = wo / (std::abs(wo.x) + std::abs(wo.y) + std::abs(wo.z));
     glm::vec2 e{p.x, p.y};
     if (p.z < 0.0f)
         e = {(1.0f - std::abs(p.y)) * (p.x >= 0.0f ? 1.0f : -1.0f),
              (1.0f - std::abs(p.x)) * (p.y >= 0.0f ? 1.0f : -1.0f)};
-    s.wo_octahedral = to_snorm16(e.x) | (to_snorm16(e.y) << 16u);
+    return to_snorm16(e.x) | (to_snorm16(e.y) << 16u);
+}
+
+} // namespace
+
+void set_view_and_material(GSurface& s, glm::vec3 wo, const Material& m, std::uint32_t index) {
+    s.wo_octahedral = octahedral(wo);
     s.albedo = m.albedo;
     s.material = index;
     s.specular = to_unorm<std::uint16_t>(m.specular, 65535.0f);
@@ -60,6 +66,16 @@ GSurface surface_at(const Scene& scene, const Hit& hit, glm::vec3 direction) {
     set_view_and_material(s, -direction, scene.materials[material], material);
     s.depth = hit.distance;
     return s;
+}
+
+GSurface escaped_surface(glm::vec3 direction) {
+    GSurface s;
+    s.wo_octahedral = octahedral(-direction);
+    return s;
+}
+
+glm::vec3 escaped_radiance(const Scene& scene, const GSurface& s) {
+    return scene.environment ? scene.environment->radiance(-view_direction(s)) : glm::vec3(0.0f);
 }
 
 GBuffer::GBuffer(const Scene& scene, const EmbreeScene& rays, const PixelBlocks& blocks,
@@ -110,7 +126,8 @@ void GBuffer::trace_primary(const PixelBlock& block, const Camera& camera,
                         std::span(hits.data(), n));
     n = 0;
     blocks_->for_each_pixel_of(block, [&](std::uint32_t, std::uint32_t, std::uint32_t i) {
-        surfaces_[i] = hits[n].found ? surface_at(*scene_, hits[n], directions[n]) : GSurface{};
+        surfaces_[i] = hits[n].found ? surface_at(*scene_, hits[n], directions[n])
+                                     : escaped_surface(directions[n]);
         ++n;
     });
 }

@@ -18,7 +18,8 @@
 
 namespace pt {
 
-/// A G-buffer texel: the primary hit of a pixel (or a path's vertex). Satisfies
+/// A G-buffer texel: the primary hit of a pixel (or a path's vertex), or where the pixel's ray
+/// left the scene (`valid` false, `wo_octahedral` towards the camera). Satisfies
 /// restir::Surface. 56 bytes: its material and view direction packed (`surface_bsdf`,
 /// `view_direction`, `emitted`), since reuse reads this frame's and last frame's texels of every
 /// neighbour (at 96 bytes, with the BSDF, the direction and the emission as floats, the diffuse
@@ -64,6 +65,12 @@ void set_view_and_material(GSurface& s, glm::vec3 wo, const Material& m, std::ui
 /// The surface that a ray travelling along `direction` (unit) found, seen from -direction;
 /// emission only on an emitter's front side.
 GSurface surface_at(const Scene& scene, const Hit& hit, glm::vec3 direction);
+/// The texel of a ray travelling along `direction` (unit) that found no surface: not valid,
+/// its view direction -direction, so that `escaped_radiance` can look up the sky it sees.
+GSurface escaped_surface(glm::vec3 direction);
+/// What the ray of an escaped texel (`s.valid` false) sees: the scene's environment towards
+/// -view_direction(s) (as packed, within 2^-15 of the octahedral square), black without one.
+glm::vec3 escaped_radiance(const Scene& scene, const GSurface& s);
 
 /// This frame's and last frame's surfaces, and the packet rays from them.
 class GBuffer {

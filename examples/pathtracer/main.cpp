@@ -4,6 +4,7 @@
 // `restir-render --help` lists every flag.
 #include "camera.hpp"
 #include "command_line.hpp"
+#include "environment.hpp"
 #include "error_metrics.hpp"
 #include "image_io.hpp"
 #include "render_options.hpp"
@@ -221,6 +222,15 @@ void write_outputs(const pt::Renderer& renderer, const pt::RenderOptions& option
         std::printf("wrote %s (exposure %.2f)\n", out.c_str(), static_cast<double>(exposure));
 }
 
+// ", environment NAME WxH" for a scene with an environment, else nothing.
+std::string environment_summary(const pt::Scene& scene) {
+    if (!scene.environment)
+        return {};
+    return ", environment " + scene.environment->name + " " +
+           std::to_string(scene.environment->map.width()) + "x" +
+           std::to_string(scene.environment->map.height());
+}
+
 // Loads the scene, checks everything that can be checked before the render, renders, measures
 // and writes the image.
 void run(pt::RenderOptions& options) {
@@ -233,9 +243,10 @@ void run(pt::RenderOptions& options) {
     std::ofstream csv = open_csv(options.csv);
 
     pt::Renderer renderer(scene, settings);
-    std::printf("scene %s: %u triangles, %u emitters, %zu VPLs; %ux%u, %u frame(s)\n",
+    std::printf("scene %s: %u triangles, %u emitters, %zu VPLs%s; %ux%u, %u frame(s)\n",
                 scene.name.c_str(), scene.triangle_count(), renderer.emitter_count(),
-                renderer.vpl_count(), settings.width, settings.height, options.frames);
+                renderer.vpl_count(), environment_summary(scene).c_str(), settings.width,
+                settings.height, options.frames);
     if (settings.gi == pt::GlobalIllumination::vpl && settings.vpls > 0 &&
         renderer.vpl_count() == 0)
         std::cerr << "restir-render: warning: no photon left a VPL (no surface reflects "

@@ -77,6 +77,32 @@ bool PathTracer::visible(const restir::LightSampleRef& ref, const GSurface& s) c
     return reflected(s, light) / c.pmf * (light_pdf / (light_pdf + bsdf_pdf));
 }
 
+glm::vec3 PathTracer::environment_nee(const GSurface& s, restir::Pcg32& rng) const {
+    const float u0 = next_float(rng);
+    const float u1 = next_float(rng);
+    const restir::EnvironmentSample sky = environment_.sample({u0, u1});
+    const float cos_surface = glm::dot(s.normal, sky.direction);
+    if (!(sky.pdf > 0.0f) || !(cos_surface > 0.0f))
+        return glm::vec3(0.0f);
+    // The way out, from where closest_hit_from would start a ray in that direction.
+    const glm::vec3 from =
+        s.position + sky.direction * ray_offset_ + s.normal * (0.01f * ray_offset_);
+    if (rays_.occluded(from, from + sky.direction * escape_distance_))
+        return glm::vec3(0.0f);
+    const glm::vec3 f_cos =
+        is_lambertian(s) ? s.albedo * (restir::inv_pi * cos_surface)
+                         : surface_bsdf(s).evaluate_cos(s.normal, view_direction(s), sky.direction);
+    // f L / p_sky times the balance heuristic p_sky / (p_sky + p_bsdf) (Veach 1997, 9.2).
+    return f_cos * sky.radiance / (sky.pdf + bounce_pdf(s, sky.direction));
+}
+
+glm::vec3 PathTracer::escaped(const restir::BsdfSample& bounce) const {
+    const glm::vec3 radiance = environment_.radiance(bounce.wi);
+    if (!environment_nee_)
+        return radiance;
+    return radiance * (bounce.pdf / (bounce.pdf + environment_.pdf(bounce.wi)));
+}
+
 glm::vec3 PathTracer::vpl_nee(const GSurface& s, restir::Pcg32& rng) const {
     if (lights_.vpls().empty())
         return glm::vec3(0.0f);
@@ -100,6 +126,8 @@ glm::vec3 PathTracer::path_radiance(const GSurface& start, restir::Pcg32& rng, b
     for (std::uint32_t depth = 0;; ++depth) {
         if (direct)
             radiance += throughput * emitter_nee(s, rng);
+        if (direct && environment_nee_)
+            radiance += throughput * environment_nee(s, rng);
         if (depth + 1 >= max_depth_ || (!direct && !bounce_further && depth > 0))
             break;
         const restir::BsdfSample bounce = sample_bounce(s, rng);
@@ -107,8 +135,11 @@ glm::vec3 PathTracer::path_radiance(const GSurface& start, restir::Pcg32& rng, b
             break;
         const glm::vec3 direction = bounce.wi;
         const Hit hit = rays_.closest_hit_from(s.position, s.normal, direction, ray_offset_);
-        if (!hit.found)
+        if (!hit.found) {
+            if (direct && !environment_.empty())
+                radiance += throughput * bounce.weight * escaped(bounce);
             break;
+        }
         throughput *= bounce.weight; // f cos / pdf
         const std::uint32_t emitter = emitters.emitter_of_triangle(hit.triangle);
         if (direct && emitter != TriangleEmitters::none && glm::dot(hit.normal, direction) < 0.0f) {

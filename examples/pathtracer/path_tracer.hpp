@@ -1,9 +1,10 @@
-// The path tracer: next-event estimation of the emitters (with MIS against the BSDF's
-// sampling) and of the VPLs, and paths that sample the surfaces' BSDFs; the reference
-// (--method reference) and --gi path.
+// The path tracer: next-event estimation of the emitters and of the environment (each with MIS
+// against the BSDF's sampling) and of the VPLs, and paths that sample the surfaces' BSDFs; the
+// reference (--method reference) and --gi path.
 #pragma once
 
 #include "embree_scene.hpp"
+#include "environment.hpp"
 #include "gbuffer.hpp"
 #include "light_set.hpp"
 #include "scene.hpp"
@@ -17,17 +18,23 @@ namespace pt {
 /// Paths from G-buffer surfaces through the scene, lit by the light set's emitters and VPLs.
 class PathTracer {
 public:
-    /// `ray_offset`: how far rays start off surfaces; `max_depth`: the path length limit.
+    /// `ray_offset`: how far rays start off surfaces; `max_depth`: the path length limit;
+    /// `environment_nee`: sample the scene's environment at every vertex (with MIS), or leave
+    /// it to BSDF-sampled rays that escape (for tests).
     PathTracer(const Scene& scene, const EmbreeScene& rays, const LightSet& lights,
-               float ray_offset, std::uint32_t max_depth)
+               float ray_offset, std::uint32_t max_depth, bool environment_nee = true)
         : scene_(scene), rays_(rays), lights_(lights), ray_offset_(ray_offset),
-          max_depth_(max_depth) {}
+          max_depth_(max_depth), environment_(scene.environment ? scene.environment->view()
+                                                                : restir::EnvironmentMapView{}),
+          environment_nee_(environment_nee && !environment_.empty()),
+          escape_distance_(scene.environment ? 2.0f * scene_size(scene) : 0.0f) {}
 
     /// Radiance reflected at `start` towards the previous vertex (its own emission excluded).
-    /// With `direct` the emitters' direct light at `start` is included (NEE + MIS); without
-    /// it, the caller has estimated it, and only light that bounced at least once more is
-    /// added. `bounce_further` continues beyond the first bounce (gi path; otherwise the path
-    /// stops after the BSDF-sampled ray that MIS needs).
+    /// With `direct` the direct light at `start` of the emitters and of the environment is
+    /// included (NEE + MIS); without it, the caller has estimated it, and only light that
+    /// bounced at least once more is added. `bounce_further` continues beyond the first bounce
+    /// (gi path; otherwise the path stops after the BSDF-sampled ray that MIS needs). A
+    /// BSDF-sampled ray that leaves the scene sees the environment.
     glm::vec3 path_radiance(const GSurface& start, restir::Pcg32& rng, bool direct,
                             bool bounce_further) const;
     /// One VPL chosen by power, its light reflected at `s` by its BSDF (no MIS: VPLs are
@@ -36,6 +43,12 @@ public:
 
 private:
     glm::vec3 emitter_nee(const GSurface& s, restir::Pcg32& rng) const;
+    /// One direction from the environment's sampler, its light reflected at `s` if nothing
+    /// blocks the way out, MIS-weighted (balance heuristic) against the BSDF's sampling.
+    glm::vec3 environment_nee(const GSurface& s, restir::Pcg32& rng) const;
+    /// The environment seen by a BSDF-sampled ray `bounce` that left the scene from `s`,
+    /// MIS-weighted against environment_nee when that runs.
+    glm::vec3 escaped(const restir::BsdfSample& bounce) const;
     /// Light of a point `light` (unshadowed) reflected at `s` towards its viewer.
     glm::vec3 reflected(const GSurface& s, const restir::LightSample& light) const;
     bool visible(const restir::LightSampleRef& ref, const GSurface& s) const;
@@ -45,6 +58,11 @@ private:
     const LightSet& lights_;
     const float ray_offset_;
     const std::uint32_t max_depth_;
+    const restir::EnvironmentMapView environment_; ///< Empty without an environment.
+    const bool environment_nee_;
+    /// Length of shadow rays towards the environment: twice the scene's diagonal, well past
+    /// its bounds from any point inside them.
+    const float escape_distance_;
 };
 
 } // namespace pt

@@ -1,5 +1,7 @@
 #include "render_options.hpp"
 
+#include "environment.hpp"
+
 #include <CLI/CLI.hpp>
 
 #include <unistd.h>
@@ -68,8 +70,9 @@ void add_scene_options(CLI::App& app, RenderOptions& options) {
     RenderSettings& settings = options.settings;
     app.add_option("--scene", options.scene,
                    "cornell (built in, diffuse), cornell-glossy (the same box with a polished "
-                   "floor, a metal and a rough block), many-lights (procedural, see --lights) "
-                   "or a Wavefront FILE.obj");
+                   "floor, a metal and a rough block), many-lights (procedural, see --lights), "
+                   "sun-sky (an open courtyard under a generated sun and sky, --env replaces "
+                   "it) or a Wavefront FILE.obj");
     app.add_option("--materials", options.materials,
                    "mtl: the materials as the scene defines them (an OBJ's MTL with its "
                    "specular lobes, docs/renderer.md); diffuse: every material Lambertian in its "
@@ -102,6 +105,21 @@ void add_scene_options(CLI::App& app, RenderOptions& options) {
         ->check(CLI::Range(1u, 65536u));
     app.add_option("--frames", options.frames, "Frames rendered and averaged")
         ->check(CLI::Range(1u, 100000u));
+}
+
+// The environment light: a map file, its brightness and its rotation.
+void add_environment_options(CLI::App& app, RenderOptions& options) {
+    app.add_option("--env", options.environment,
+                   "Environment map (.exr or .pfm, equirectangular, +Y up, the centre looking "
+                   "down -Z, linear radiance, at most 8192x4096): lights the scene from "
+                   "infinitely far and shows where camera rays leave it (any scene; the "
+                   "reference path tracer samples it)");
+    app.add_option("--env-scale", options.environment_scale,
+                   "Multiplies the environment's radiance (--env or sun-sky's sky)")
+        ->check(finite_number & CLI::PositiveNumber);
+    app.add_option("--env-rotate", options.environment_rotate,
+                   "Turns the environment about +Y by this many degrees")
+        ->check(finite_number);
 }
 
 // The image and the camera, and how the render runs.
@@ -294,9 +312,16 @@ Scene load_scene(const RenderOptions& options) {
                   : options.scene == "cornell-glossy" ? make_glossy_cornell_box()
                   : options.scene == "many-lights"
                       ? make_many_lights(options.lights, options.scene_seed)
-                      : load_obj(options.scene);
+                  : options.scene == "sun-sky" ? make_sun_sky_scene(nullptr)
+                                               : load_obj(options.scene);
     if (options.materials == MaterialMode::diffuse)
         make_materials_diffuse(scene);
+    if (!options.environment.empty())
+        scene.environment = load_environment(options.environment, options.environment_scale,
+                                             options.environment_rotate);
+    else if (options.scene == "sun-sky")
+        scene.environment = make_sun_sky_environment(SunSkyParams{}, options.environment_scale,
+                                                     options.environment_rotate);
     return scene;
 }
 
@@ -312,6 +337,7 @@ std::optional<RenderOptions> parse_render_options(int argc, const char* const* a
         CLI::MultiOptionPolicy::TakeLast);
     std::optional<std::uint64_t> vpl_seed;
     add_scene_options(app, options);
+    add_environment_options(app, options);
     add_camera_options(app, options);
     add_output_options(app, options);
     ReuseFlags reuse_flags;

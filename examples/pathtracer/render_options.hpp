@@ -19,6 +19,9 @@ struct RenderOptions {
     MaterialMode materials = MaterialMode::mtl;
     std::uint32_t lights = 1000;
     std::uint64_t scene_seed = 0;
+    std::string environment;         ///< --env: an equirectangular .exr or .pfm map.
+    float environment_scale = 1.0f;  ///< --env-scale: multiplies the environment's radiance.
+    float environment_rotate = 0.0f; ///< --env-rotate: degrees about +Y.
     std::uint64_t max_memory_mb = 0;
     std::vector<float> look_from, look_at;
     std::optional<float> fov;
@@ -47,8 +50,10 @@ struct UsageError : std::runtime_error {
 std::optional<RenderOptions> parse_render_options(int argc, const char* const* argv,
                                                   std::string& help);
 
-/// The scene that `options` name (cornell, cornell-glossy, many-lights or an OBJ file), its
-/// materials made Lambertian with --materials diffuse. Throws SceneError.
+/// The scene that `options` name (cornell, cornell-glossy, many-lights, sun-sky or an OBJ
+/// file), its materials made Lambertian with --materials diffuse, under the --env map, or
+/// under the generated sun and sky for sun-sky without one (--env-scale and --env-rotate
+/// apply to either). Throws SceneError, or ImageError for a map that cannot be used.
 Scene load_scene(const RenderOptions& options);
 
 } // namespace pt

@@ -55,7 +55,7 @@ struct Renderer::Impl {
               with_bsdf_candidates(make_initial_candidates(settings, scene, light_set, blocks),
                                    settings, rays, light_set, ray_offset)),
           camera(settings.camera, settings.width, settings.height), previous_camera(camera),
-          paths(scene, rays, light_set, ray_offset, settings.max_depth),
+          paths(scene, rays, light_set, ray_offset, settings.max_depth, settings.environment_nee),
           accumulation(settings.width, settings.height) {
         if (settings.method == Method::restir)
             restir.emplace(settings, blocks, gbuffer, *candidates, light_set, paths, camera,
@@ -97,13 +97,28 @@ struct Renderer::Impl {
             t.photons = light_set.photon_ms();
         if (settings.motion == CameraMotion::orbit)
             orbit_camera(accumulation.frames());
-        if (settings.method == Method::restir)
+        if (settings.method == Method::restir) {
             restir->render(accumulation.frames(), !new_vpl_set, accumulation.frame(), t);
-        else
+            show_escaped_rays();
+        } else
             independent_frame(accumulation.frames(), t);
         accumulation.add_frame();
         t.total = milliseconds_since(frame_start);
         return t;
+    }
+
+    // The environment where the frame's primary rays left the scene (ReSTIR shades those pixels
+    // black).
+    void show_escaped_rays() {
+        if (!scene.environment)
+            return;
+        blocks.for_each_block([&](const PixelBlock& block) {
+            blocks.for_each_pixel_of(block, [&](std::uint32_t, std::uint32_t, std::uint32_t i) {
+                const GSurface& s = gbuffer.surfaces()[i];
+                if (!s.valid)
+                    accumulation.frame().pixels[i] = escaped_radiance(scene, s);
+            });
+        });
     }
 
     // A new VPL set every `vpl_reshoot_interval` frames: true when this frame shot one.
@@ -187,6 +202,9 @@ struct Renderer::Impl {
                 accumulation.frame().pixels[i] +=
                     independent_radiance(s, picked[local(i)], rngs[local(i)]) /
                     static_cast<float>(settings.spp);
+            else if (scene.environment)
+                accumulation.frame().pixels[i] +=
+                    escaped_radiance(scene, s) / static_cast<float>(settings.spp);
         });
     }
 

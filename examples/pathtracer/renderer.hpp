@@ -78,6 +78,10 @@ struct RenderSettings {
     std::uint32_t vpl_reshoot_interval = 0;
     float attenuation_radius = 0.0f; ///< Yuksel radius for VPLs; 0: 2 % of the scene's size.
     std::uint32_t max_depth = 8;     ///< Path length limit (reference, gi path).
+    /// The path tracer's next-event estimation of the environment, with MIS against BSDF
+    /// sampling; false leaves the environment to BSDF-sampled rays alone (for tests: both
+    /// estimate the same image).
+    bool environment_nee = true;
 
     /// The library's frame recipe with restir-render's defaults: 5 neighbours, a spatial
     /// radius of 0 (the renderer makes it 30 px per 1080 rows, the paper's 30 at 1080p, at

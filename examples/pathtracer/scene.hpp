@@ -1,6 +1,6 @@
-// Scene description of the example renderer: triangles with materials, some emissive,
-// and an optional suggested camera. Built in (Cornell box, procedural many lights) or loaded
-// from Wavefront OBJ/MTL.
+// Scene description of the example renderer: triangles with materials, some emissive, an
+// optional environment light and an optional suggested camera. Built in (Cornell box,
+// procedural many lights, sun and sky) or loaded from Wavefront OBJ/MTL.
 #pragma once
 
 #include <glm/geometric.hpp>
@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -18,6 +19,8 @@
 #include <vector>
 
 namespace pt {
+
+struct Environment; // environment.hpp
 
 /// The renderer's random streams (the `stream` of `restir::make_pixel_rng`), numbered after the
 /// library's.
@@ -85,6 +88,9 @@ struct Scene {
     std::vector<std::uint32_t> triangle_materials;
     std::vector<Material> materials;
     std::optional<CameraSetup> camera; ///< Suggested camera; framed from the bounds otherwise.
+    /// Radiance arriving from infinitely far away where rays leave the scene (--env, or the
+    /// sun-sky scene's sky); null: black.
+    std::shared_ptr<const Environment> environment;
 
     std::uint32_t triangle_count() const {
         return static_cast<std::uint32_t>(triangle_materials.size());
@@ -133,6 +139,11 @@ Scene make_glossy_cornell_box();
 /// with colours and intensities drawn from `seed`; for light-count scaling measurements.
 /// Throws SceneError for a count of 0 or above 10 million.
 Scene make_many_lights(std::uint32_t light_count, std::uint64_t seed);
+
+/// An open scene under `environment` ("sun-sky"): a large grey ground, blocks, an arch and a
+/// low wall that cast shadows and hide part of the sky, a polished metal block, and two
+/// small emissive panels (local lights next to the sky); the camera sees the horizon.
+Scene make_sun_sky_scene(std::shared_ptr<const Environment> environment);
 
 /// Wavefront OBJ with its MTL files (tinyobjloader). Materials as Blender's exporter writes
 /// them from its Principled BSDF (docs/renderer.md): `Kd` is the base colour, `Ke` the emitted

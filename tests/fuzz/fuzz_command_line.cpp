@@ -33,11 +33,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         if (!options)
             return 0;
         const pt::RenderSettings& s = options->settings;
-        const bool finite = std::isfinite(s.di_frame.spatial.radius) &&
-                            std::isfinite(s.attenuation_radius) &&
-                            std::isfinite(s.di_frame.boiling.threshold) &&
-                            (!options->fov || std::isfinite(*options->fov)) &&
-                            (!options->exposure || std::isfinite(*options->exposure));
+        const bool finite =
+            std::isfinite(s.di_frame.spatial.radius) && std::isfinite(s.attenuation_radius) &&
+            std::isfinite(s.di_frame.boiling.threshold) &&
+            (!options->fov || std::isfinite(*options->fov)) &&
+            (!options->exposure || std::isfinite(*options->exposure)) &&
+            std::isfinite(options->environment_scale) && options->environment_scale > 0.0f &&
+            std::isfinite(options->environment_rotate);
         if (!finite || s.width == 0 || s.height == 0 || s.width > 16384 || s.height > 16384 ||
             options->frames == 0 || s.candidates == 0)
             __builtin_trap(); // a value the checks should have refused

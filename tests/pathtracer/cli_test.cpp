@@ -98,10 +98,14 @@ TEST(Cli, HelpDocumentsEveryFlagWithItsDefault) {
                              "--boiling-filter",
                              "--scene-seed",
                              "--materials",
-                             "--max-memory"})
+                             "--max-memory",
+                             "--env",
+                             "--env-scale",
+                             "--env-rotate"})
         EXPECT_NE(r.out.find(flag), std::string::npos) << flag;
     EXPECT_NE(r.out.find("restir"), std::string::npos);
     EXPECT_NE(r.out.find("cornell-glossy"), std::string::npos);
+    EXPECT_NE(r.out.find("sun-sky"), std::string::npos);
 }
 
 TEST(Cli, BadInputIsOneLineAndStatusTwo) {
@@ -337,6 +341,77 @@ TEST(Cli, RendersTheSharedCornellBoxObj) {
                               (scratch_dir() / "obj.png").string());
         EXPECT_EQ(r.status, 0) << r.err;
         EXPECT_NE(r.out.find("2 emitters"), std::string::npos) << r.out;
+    }
+}
+
+// A PFM file as given: its header text, then `floats` (little-endian, as the header's negative
+// scale says), possibly fewer than the header promises.
+void write_raw_pfm(const fs::path& path, const std::string& header,
+                   const std::vector<float>& floats) {
+    std::ofstream out(path, std::ios::binary);
+    out << header;
+    out.write(reinterpret_cast<const char*>(floats.data()),
+              static_cast<std::streamsize>(floats.size() * sizeof(float)));
+}
+
+// Every environment map the renderer cannot use is one line on stderr and status 2, before
+// the render: bad texels, a black map, sizes the reader refuses from the header (16384 x 8192
+// is more than its 2^25 pixels), a file cut short, an empty one; and the flags' values.
+TEST(Cli, BadEnvironmentMapsAreOneLineErrors) {
+    const fs::path dir = scratch_dir();
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const auto env = [&dir](const char* file) {
+        return small("--method reference --gi path --env " + (dir / file).string());
+    };
+    write_raw_pfm(dir / "nan.pfm", "PF\n2 1\n-1.0\n", {1, 1, 1, 1, nan, 1});
+    expect_one_line_error(env("nan.pfm"), "texel (1, 0) has a negative, NaN or infinite channel");
+    write_raw_pfm(dir / "negative.pfm", "PF\n2 1\n-1.0\n", {1, -1, 1, 1, 1, 1});
+    expect_one_line_error(env("negative.pfm"), "texel (0, 0)");
+    write_raw_pfm(dir / "zeros.pfm", "PF\n4 2\n-1.0\n", std::vector<float>(24, 0.0f));
+    expect_one_line_error(env("zeros.pfm"), "zero everywhere");
+    write_raw_pfm(dir / "huge.pfm", "PF\n16384 8192\n-1.0\n", {1, 1, 1});
+    expect_one_line_error(env("huge.pfm"), "16384x8192");
+    write_raw_pfm(dir / "truncated.pfm", "PF\n4 2\n-1.0\n", std::vector<float>(23, 1.0f));
+    expect_one_line_error(env("truncated.pfm"), "cut short");
+    write_raw_pfm(dir / "zero-size.pfm", "PF\n0 0\n-1.0\n", {});
+    expect_one_line_error(env("zero-size.pfm"), "bad width '0'");
+    write_raw_pfm(dir / "empty.pfm", "", {});
+    expect_one_line_error(env("empty.pfm"), "empty.pfm");
+    expect_one_line_error(env("missing.exr"), "no such file");
+    expect_one_line_error(env("sky.hdr"), "'.hdr'");
+    for (const char* value : {"0", "-1", "nan", "inf"})
+        expect_one_line_error(small(std::string("--scene sun-sky --env-scale ") + value),
+                              "--env-scale");
+    expect_one_line_error(small("--scene sun-sky --env-rotate nan"), "--env-rotate");
+    expect_one_line_error(small("--scene sun-sky --env-scale 1e30"), "1e30");
+}
+
+// A 1 x 1 map is a constant sky: the box renders under it, and the pixels that see out of the
+// box's open front show it times --env-scale, in the reference and in ReSTIR.
+TEST(Cli, OneTexelEnvironmentIsAConstantSky) {
+    const fs::path dir = scratch_dir();
+    write_raw_pfm(dir / "one.pfm", "PF\n1 1\n-1.0\n", {0.25f, 0.5f, 0.75f});
+    for (const char* method : {"reference", "restir"}) {
+        const fs::path out = dir / (std::string(method) + ".pfm");
+        const Outcome r = run("--width 24 --height 24 --frames 1 --vpls 200 --gi path --method " +
+                              std::string(method) + " --env " + (dir / "one.pfm").string() +
+                              " --env-scale 2 --env-rotate 720 --out " + out.string());
+        ASSERT_EQ(r.status, 0) << r.err;
+        const pt::Image image = pt::read_image(out);
+        const auto sky =
+            std::count(image.pixels.begin(), image.pixels.end(), glm::vec3(0.5f, 1.0f, 1.5f));
+        EXPECT_GT(sky, 0) << method;
+        EXPECT_LT(sky, 24 * 24 / 4) << method;
+    }
+}
+
+// The sun-sky scene renders with every method; its summary names the environment.
+TEST(Cli, RendersTheSunSkyScene) {
+    for (const char* method : {"reference", "restir", "ris", "uniform"}) {
+        const Outcome r = run(small(std::string("--scene sun-sky --gi path --method ") + method));
+        EXPECT_EQ(r.status, 0) << method << "\n" << r.err;
+        EXPECT_NE(r.out.find("scene sun-sky:"), std::string::npos) << r.out;
+        EXPECT_NE(r.out.find("environment sun-sky 2048x1024"), std::string::npos) << r.out;
     }
 }
 

@@ -1,5 +1,6 @@
 // The photon shooter: energy conservation in a closed box, one-bounce indirect irradiance
-// against direct Monte Carlo integration, determinism across threads, and bad input.
+// against direct Monte Carlo integration, determinism across threads, bad input, and photons
+// from the sky: the flux a floor reflects under a sky, alone and beside an emitter.
 #include <restir/restir.hpp>
 
 #include "support/statistics.hpp"
@@ -7,8 +8,13 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdint>
+#include <numbers>
+#include <optional>
+#include <stdexcept>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -229,6 +235,208 @@ TEST(EmissionDirections, CosineAndSphereDensities) {
     }
     EXPECT_TRUE(restir::test::agrees_with(cosine, 2.0 / 3.0));
     EXPECT_TRUE(restir::test::agrees_with(sphere, 0.0));
+}
+
+// The floor square [-half, half]^2 at y = 0, seen from above only: photons travelling up from
+// below the horizon pass it (as if its underside were black), so a sky lights one side.
+struct SkyFloor {
+    float half = 1.5f;
+    restir::test::SceneHit closest_hit(glm::vec3 origin, glm::vec3 direction) const {
+        if (!(direction.y < 0.0f) || !(origin.y > 0.0f))
+            return {};
+        const float t = -origin.y / direction.y;
+        const glm::vec3 p = origin + t * direction;
+        if (std::abs(p.x) > half || std::abs(p.z) > half)
+            return {};
+        return {{p.x, 0.0f, p.z}, {0.0f, 1.0f, 0.0f}, true};
+    }
+    double area() const { return 4.0 * static_cast<double>(half) * static_cast<double>(half); }
+    // The bounding sphere about the origin (a margin over the square's half-diagonal).
+    float radius() const { return 1.01f * std::sqrt(2.0f) * half; }
+};
+
+// A gradient sky with a sun above the horizon and a dark ground.
+std::vector<glm::vec3> sunny_sky(std::uint32_t width, std::uint32_t height) {
+    std::vector<glm::vec3> texels(std::size_t{width} * height);
+    for (std::uint32_t y = 0; y < height; ++y)
+        for (std::uint32_t x = 0; x < width; ++x) {
+            const float v = (static_cast<float>(y) + 0.5f) / static_cast<float>(height);
+            glm::vec3 c = v < 0.5f ? glm::vec3(0.3f + v, 0.6f, 1.0f - v) : glm::vec3(0.05f);
+            if (y == height / 5u && x == width / 3u)
+                c = glm::vec3(400.0f, 350.0f, 300.0f);
+            texels[std::size_t{y} * width + x] = c;
+        }
+    return texels;
+}
+
+// Irradiance of the +Y side under a map, per channel: the sum over texels above the horizon of
+// L (2 pi / w) (cos^2 theta_top - cos^2 theta_bottom) / 2 (the integral of cos over the texel),
+// times scale. The height must be even (the horizon a row border).
+glm::dvec3 upper_irradiance(const std::vector<glm::vec3>& texels, std::uint32_t width,
+                            std::uint32_t height, double scale) {
+    constexpr double pi = std::numbers::pi;
+    glm::dvec3 sum(0.0);
+    for (std::uint32_t y = 0; y < height / 2u; ++y) {
+        const double top = std::cos(pi * y / height), bottom = std::cos(pi * (y + 1.0) / height);
+        for (std::uint32_t x = 0; x < width; ++x)
+            sum += glm::dvec3(texels[std::size_t{y} * width + x]) *
+                   (pi / width * (top * top - bottom * bottom));
+    }
+    return sum * scale;
+}
+
+// Form factor from a point at height h above the centre of a parallel square of half-side s:
+// four times that to an s x s rectangle with a corner below the point,
+// (1 / 2 pi) (X / sqrt(1 + X^2) atan(Y / sqrt(1 + X^2)) + Y / sqrt(1 + Y^2) atan(X / ...)),
+// X = Y = s / h (Howell's catalogue of configuration factors, B-3).
+double centred_square_form_factor(double half, double height) {
+    const double x = half / height;
+    const double root = std::sqrt(1.0 + x * x);
+    return 4.0 * (2.0 * x / root * std::atan(x / root)) / (2.0 * std::numbers::pi);
+}
+
+struct SkyRun {
+    glm::vec3 albedo{0.3f, 0.5f, 0.7f};
+    std::uint32_t photons = 4'000u;
+    std::uint32_t trials = 300u;
+};
+
+// Total first-bounce VPL flux per channel, one RunningStats per channel over independent runs.
+template <class Configure>
+std::array<RunningStats, 3> first_bounce_flux(const RectangleLights& lights, const SkyFloor& floor,
+                                              const SkyRun& run, Configure&& configure) {
+    std::array<RunningStats, 3> stats;
+    PhotonParams params = restir::default_photon_params();
+    params.photon_count = run.photons;
+    params.max_bounces = 1u;
+    for (std::uint32_t trial = 0; trial < run.trials; ++trial) {
+        params.seed = 7000u + trial;
+        restir::PhotonEmitters emitters(lights, params.points_per_emitter, params.seed);
+        configure(emitters);
+        const glm::dvec3 sum =
+            total_flux(restir::shoot_photons(emitters, floor, Lambertian{run.albedo}, params));
+        for (int c = 0; c < 3; ++c)
+            stats[static_cast<std::size_t>(c)].add(sum[c]);
+    }
+    return stats;
+}
+
+// A floor of albedo a and area A under a sky, no emitters: the first-bounce VPLs carry the flux
+// the floor reflects, a A E with E the sky's irradiance: pi L for a uniform sky of radiance L,
+// the texel sum `upper_irradiance` for a gradient with a sun (rotated, scaled).
+TEST(SkyPhotons, FloorReflectsTheSkysIrradiance) {
+    const SkyFloor floor;
+    const SkyRun run;
+    struct SkyCase {
+        const char* name;
+        std::uint32_t width, height;
+        std::vector<glm::vec3> texels;
+        float scale, rotation;
+    };
+    const std::vector<SkyCase> cases = {
+        {"uniform", 8u, 4u, std::vector<glm::vec3>(32u, glm::vec3(0.5f, 1.0f, 1.5f)), 1.0f, 0.0f},
+        {"sunny", 48u, 24u, sunny_sky(48u, 24u), 2.0f, 0.7f},
+    };
+    for (const SkyCase& c : cases) {
+        const restir::EnvironmentMap sky(c.texels, c.width, c.height, c.scale, c.rotation);
+        const std::array<RunningStats, 3> stats =
+            first_bounce_flux(RectangleLights{}, floor, run, [&](restir::PhotonEmitters& e) {
+                e.set_environment(sky.view(), glm::vec3(0.0f), floor.radius());
+                ASSERT_EQ(e.sky_probability(), 1.0f) << "no emitters: every photon from the sky";
+            });
+        const glm::dvec3 irradiance =
+            upper_irradiance(c.texels, c.width, c.height, static_cast<double>(c.scale));
+        if (std::string(c.name) == "uniform")
+            EXPECT_NEAR(irradiance.y, std::numbers::pi, 1e-9);
+        for (int k = 0; k < 3; ++k) {
+            const double expected =
+                static_cast<double>(run.albedo[k]) * floor.area() * irradiance[k];
+            EXPECT_TRUE(restir::test::agrees_with(stats[static_cast<std::size_t>(k)], expected))
+                << c.name << ", channel " << k;
+        }
+    }
+}
+
+// A sky and a small emitter above the floor's centre together: the expectation is the sum of
+// the sky's share, a A pi L, and the emitter's, a Phi_e F (F the point-to-square form factor),
+// whether the sky's probability follows the flux or is set by hand.
+TEST(SkyPhotons, SkyAndEmitterKeepBothExpectations) {
+    const SkyFloor floor;
+    const SkyRun run;
+    const glm::vec3 sky_radiance(0.8f, 1.0f, 1.2f);
+    const restir::EnvironmentMap sky(std::vector<glm::vec3>(64u * 32u, sky_radiance), 64u, 32u);
+    const RectangleLights lights{{restir::test::ceiling_light(1.0f, 0.01f, glm::vec3(3e5f))}};
+    const double form_factor = centred_square_form_factor(static_cast<double>(floor.half), 1.0);
+    for (const std::optional<float> probability : {std::optional<float>{}, std::optional{0.25f}}) {
+        float used = 0.0f;
+        const std::array<RunningStats, 3> stats =
+            first_bounce_flux(lights, floor, run, [&](restir::PhotonEmitters& e) {
+                e.set_environment(sky.view(), glm::vec3(0.0f), floor.radius(), probability);
+                used = e.sky_probability();
+            });
+        if (!probability) {
+            // In proportion to flux: pi R^2 * 4 pi L (summed over channels) against Phi_e.
+            const double radius = static_cast<double>(floor.radius());
+            const double sky_flux =
+                std::numbers::pi * radius * radius * 4.0 * std::numbers::pi *
+                static_cast<double>(sky_radiance.x + sky_radiance.y + sky_radiance.z);
+            const glm::vec3 phi = lights.flux();
+            const double emitter_flux = static_cast<double>(phi.x + phi.y + phi.z);
+            EXPECT_NEAR(static_cast<double>(used), sky_flux / (sky_flux + emitter_flux), 1e-4);
+        } else {
+            EXPECT_EQ(used, 0.25f);
+        }
+        for (int k = 0; k < 3; ++k) {
+            const double a = static_cast<double>(run.albedo[k]);
+            const double expected =
+                a * floor.area() * std::numbers::pi * static_cast<double>(sky_radiance[k]) +
+                a * static_cast<double>(lights.flux()[k]) * form_factor;
+            EXPECT_TRUE(restir::test::agrees_with(stats[static_cast<std::size_t>(k)], expected))
+                << "probability " << used << ", channel " << k;
+        }
+    }
+}
+
+// Without a sky, or with a sky of probability 0, the emitters shoot exactly the VPLs that
+// shoot_photons(lights, ...) does.
+TEST(SkyPhotons, NoSkyLeavesTheEmittersUnchanged) {
+    const RectangleLights lights = box_light();
+    PhotonParams params = restir::default_photon_params();
+    params.photon_count = 5'000u;
+    params.max_bounces = 3u;
+    params.seed = 9u;
+    const std::vector<Vpl> reference =
+        restir::shoot_photons(lights, ClosedBox{}, Lambertian{}, params);
+    const restir::EnvironmentMap sky(std::vector<glm::vec3>(8u, glm::vec3(1.0f)), 4u, 2u);
+    restir::PhotonEmitters plain(lights, params.points_per_emitter, params.seed);
+    restir::PhotonEmitters zero_sky(lights, params.points_per_emitter, params.seed);
+    zero_sky.set_environment(sky.view(), glm::vec3(0.0f), 2.0f, 0.0f);
+    for (const restir::PhotonEmitters* emitters : {&plain, &zero_sky}) {
+        const std::vector<Vpl> vpls =
+            restir::shoot_photons(*emitters, ClosedBox{}, Lambertian{}, params);
+        ASSERT_EQ(vpls.size(), reference.size());
+        for (std::size_t i = 0; i < vpls.size(); ++i) {
+            ASSERT_EQ(vpls[i].position, reference[i].position) << i;
+            ASSERT_EQ(vpls[i].normal, reference[i].normal) << i;
+            ASSERT_EQ(vpls[i].flux, reference[i].flux) << i;
+        }
+    }
+}
+
+TEST(SkyPhotons, BadSkySettingsThrow) {
+    const restir::EnvironmentMap sky(std::vector<glm::vec3>(8u, glm::vec3(1.0f)), 4u, 2u);
+    restir::PhotonEmitters emitters(box_light(), 4u, 0u);
+    const glm::vec3 origin(0.0f);
+    const float nan = std::nanf("");
+    EXPECT_THROW(emitters.set_environment(restir::EnvironmentMapView{}, origin, 1.0f),
+                 std::invalid_argument);
+    EXPECT_THROW(emitters.set_environment(sky.view(), origin, 0.0f), std::invalid_argument);
+    EXPECT_THROW(emitters.set_environment(sky.view(), origin, nan), std::invalid_argument);
+    EXPECT_THROW(emitters.set_environment(sky.view(), glm::vec3(nan), 1.0f), std::invalid_argument);
+    EXPECT_THROW(emitters.set_environment(sky.view(), origin, 1.0f, 1.5f), std::invalid_argument);
+    EXPECT_THROW(emitters.set_environment(sky.view(), origin, 1.0f, -0.1f), std::invalid_argument);
+    EXPECT_THROW(emitters.set_environment(sky.view(), origin, 1.0f, nan), std::invalid_argument);
+    EXPECT_FALSE(emitters.source().has_sky());
 }
 
 } // namespace

@@ -180,6 +180,24 @@ struct EnvironmentMapView {
 
 static_assert(std::is_trivially_copyable_v<EnvironmentMapView>);
 
+/// The integral of `view`'s radiance over the sphere, RGB, scale applied (host, O(texels)): the
+/// sum over texels of L * (texel solid angle (2 pi / width)(cos theta_top - cos theta_bottom))
+/// * scale, in double. 0 for an empty view.
+inline glm::vec3 environment_radiance_integral(const EnvironmentMapView& view) {
+    if (view.empty())
+        return glm::vec3(0.0f);
+    glm::dvec3 sum(0.0);
+    for (std::uint32_t y = 0; y < view.height; ++y) {
+        const double top = std::cos(std::numbers::pi * y / view.height);
+        const double bottom = std::cos(std::numbers::pi * (y + 1.0) / view.height);
+        glm::dvec3 row(0.0);
+        for (std::uint32_t x = 0; x < view.width; ++x)
+            row += glm::dvec3(view.texels[std::size_t{y} * view.width + x]);
+        sum += row * (2.0 * std::numbers::pi / view.width * (top - bottom));
+    }
+    return glm::vec3(sum * static_cast<double>(view.scale));
+}
+
 /// Host owner and builder of an environment map and its sampling tables. Throws
 /// std::invalid_argument with a one-line message for: width or height 0, width * height
 /// > 2^27, a texel span whose size is not width * height, a NaN, infinite or negative texel
@@ -228,9 +246,9 @@ public:
     std::uint32_t height() const { return height_; }
 
     /// The integral of radiance over the sphere, RGB, scale applied: the sum over texels of
-    /// L * (texel solid angle) * scale. The power that the sky sends through a disk of area A,
-    /// from all directions, is A times this integral weighted by |cos| (a sphere of radius R
-    /// receives pi R^2 times it); used for power estimates.
+    /// L * (texel solid angle) * scale (`environment_radiance_integral`). A sphere of radius R
+    /// receives pi R^2 times it from the sky (each direction's parallel beam crosses a disk of
+    /// area pi R^2); used for power estimates.
     glm::vec3 radiance_integral() const { return radiance_integral_; }
 
     /// Bytes of the sampling tables (rows, per-row conditionals, row boundaries), not the
@@ -297,7 +315,6 @@ private:
         column_tables_.assign(w * height_, AliasEntry{});
         std::vector<double> row_weight(height_, 0.0);
         std::vector<float> weights(w);
-        glm::dvec3 radiance_sum(0.0);
         double luminance_integral = 0.0;
         for (std::uint32_t y = 0; y < height_; ++y) {
             const double top = std::cos(std::numbers::pi * y / height_);
@@ -306,14 +323,11 @@ private:
                 2.0 * std::numbers::pi / static_cast<double>(w) * (top - bottom);
             const glm::vec3* row = texels_.data() + y * w;
             double luminance_sum = 0.0, largest = 0.0;
-            glm::dvec3 row_radiance(0.0);
             for (std::size_t x = 0; x < w; ++x) {
                 const double l = luminance_of(row[x]);
                 luminance_sum += l;
                 largest = l > largest ? l : largest;
-                row_radiance += glm::dvec3(row[x]);
             }
-            radiance_sum += row_radiance * solid_angle;
             luminance_integral += luminance_sum * solid_angle;
             row_weight[y] = luminance_sum * solid_angle;
             if (largest > 0.0) {
@@ -342,7 +356,7 @@ private:
             row_weights[y] = static_cast<float>(row_weight[y] / largest_row);
         const AliasTable rows(row_weights);
         row_table_.assign(rows.entries().begin(), rows.entries().end());
-        radiance_integral_ = glm::vec3(radiance_sum * static_cast<double>(scale_));
+        radiance_integral_ = environment_radiance_integral(view());
     }
 
     std::vector<glm::vec3> texels_;
