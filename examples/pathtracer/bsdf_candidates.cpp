@@ -7,17 +7,23 @@ namespace pt {
 namespace {
 
 // The emitter a BSDF ray finds: the inverse of TriangleEmitters::sample_point (a uniform point
-// by area, so the light candidates' density there is 1 / area).
+// by area, so the light candidates' density there is 1 / area); or, where the ray leaves the
+// scene, the environment's direction (its density per steradian from the map).
 struct EmitterHits {
     const EmbreeScene* rays;
-    const TriangleEmitters* emitters;
+    const Unified* lights;
     glm::vec3 normal;
     float ray_offset;
 
     restir::LightHit find_light(glm::vec3 origin, glm::vec3 direction) const {
         const Hit hit = rays->closest_hit_from(origin, normal, direction, ray_offset);
         if (!hit.found)
-            return {};
+            return lights->environment_count() == 0u
+                       ? restir::LightHit{}
+                       : restir::LightHit{
+                             true, lights->environment_id(),
+                             restir::environment_light_point(lights->environment, direction)};
+        const TriangleEmitters* emitters = lights->emitters;
         const std::uint32_t emitter = emitters->emitter_of_triangle(hit.triangle);
         if (emitter == TriangleEmitters::none)
             return {};
@@ -37,7 +43,9 @@ public:
     BsdfCandidates(std::unique_ptr<InitialCandidates> source, const RenderSettings& settings,
                    const EmbreeScene& rays, const LightSet& lights, float ray_offset)
         : source_(std::move(source)), counts_{settings.candidates, settings.bsdf_candidates},
-          rays_(rays), lights_(lights), ray_offset_(ray_offset) {}
+          rays_(rays), lights_(lights), ray_offset_(ray_offset),
+          everywhere_(settings.environment_sampling == EnvironmentSampling::bsdf &&
+                      lights.lights().environment_count() > 0u) {}
 
     void use_light_set() override { source_->use_light_set(); }
     void prepare_frame(std::uint32_t frame_index, std::span<const GSurface> surfaces) override {
@@ -46,12 +54,12 @@ public:
 
     Reservoir initial_reservoir(std::uint32_t x, std::uint32_t y, std::uint32_t frame_index,
                                 const GSurface& s, restir::Pcg32& rng) const override {
-        if (is_lambertian(s))
+        if (is_lambertian(s) && !everywhere_)
             return source_->initial_reservoir(x, y, frame_index, s, rng);
         const restir::PowerLightSampler sampler{lights_.power_table().view()};
         const restir::ShadingPoint at{s.position, s.normal, 0.0f};
         const restir::GlossyReceiver receiver = glossy_receiver(s); // as p-hat and shading see it
-        const EmitterHits hits{&rays_, &lights_.emitters(), s.normal, ray_offset_};
+        const EmitterHits hits{&rays_, &lights_.lights(), s.normal, ray_offset_};
         return restir::resample_lights_and_bsdf<target_norm>(
             rng, counts_, sampler, at, lights_.lights(), lights_.falloff(), receiver, hits);
     }
@@ -64,6 +72,9 @@ private:
     const EmbreeScene& rays_;
     const LightSet& lights_;
     float ray_offset_;
+    // --env-sampling bsdf: BSDF candidates at diffuse pixels too (cosine-weighted), the only
+    // way to the environment.
+    bool everywhere_;
 };
 
 } // namespace

@@ -46,7 +46,7 @@ Reservoir tile_reservoir(const restir::LightTileArrays& from, std::uint32_t tile
 // coverage that divides W is that part's share of its area (1 where the rule redraws). Redrawing
 // everywhere doubled the error in the Cornell box: at a grazing part of an emitter the area
 // point's target is small, and W, which divides by it, no longer cancels against the new
-// point's contribution (docs/noise-and-bias.md). VPLs keep their point.
+// point's contribution (docs/noise-and-bias.md). VPLs and the environment keep their point.
 Reservoir with_point_from_surface(const Reservoir& chosen, const LightSet& lights,
                                   const GSurface& s, restir::Pcg32& rng) {
     if (!chosen.has_sample())
@@ -54,7 +54,8 @@ Reservoir with_point_from_surface(const Reservoir& chosen, const LightSet& light
     const float u = next_float(rng); // named: the order of the draws is fixed
     const float v = next_float(rng);
     const std::uint32_t id = chosen.sample.light_id;
-    if (lights.lights().is_vpl(id) || !lights.emitters().redraw_pays_off(id, s.position, s.normal))
+    if (id >= lights.emitters().light_count() ||
+        !lights.emitters().redraw_pays_off(id, s.position, s.normal))
         return chosen;
     const float coverage = lights.emitters().area_fraction_above(id, s.position, s.normal);
     return restir::redraw_point_from_receiver(

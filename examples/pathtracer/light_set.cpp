@@ -1,5 +1,6 @@
 #include "light_set.hpp"
 
+#include "environment.hpp"
 #include "scatter.hpp"
 #include "timing.hpp"
 
@@ -16,10 +17,21 @@ namespace {
 
 TriangleEmitters checked_emitters(const Scene& scene) {
     TriangleEmitters emitters(scene);
-    if (emitters.light_count() == 0)
+    if (emitters.light_count() == 0 && !scene.environment)
         throw SceneError("scene '" + scene.name +
-                         "' has no emitters: give some material a positive Ke");
+                         "' has no emitters and no environment: give some material a positive Ke, "
+                         "or light it with --env");
     return emitters;
+}
+
+// The sphere around the scene's bounding box: what the environment's light crosses.
+struct BoundingSphere {
+    glm::vec3 centre;
+    float radius;
+};
+BoundingSphere bounding_sphere(const Scene& scene) {
+    const SceneBounds box = bounds_of(scene);
+    return {0.5f * (box.lower + box.upper), 0.5f * scene_size(scene)};
 }
 
 } // namespace
@@ -67,7 +79,12 @@ std::vector<restir::Vpl> LightSet::shoot_photons(const restir::PhotonParams& par
     const auto parallel_for = [this](std::uint32_t count, auto&& body) {
         arena_.execute([&] { tbb::parallel_for(0u, count, [&](std::uint32_t i) { body(i); }); });
     };
-    return restir::shoot_photons(emitters_, rays_, scatter, params, parallel_for);
+    restir::PhotonEmitters sources(emitters_, params.points_per_emitter, params.seed);
+    if (scene_.environment) { // the sky's photons, in proportion to its flux into the scene
+        const BoundingSphere sphere = bounding_sphere(scene_);
+        sources.set_environment(scene_.environment->view(), sphere.centre, sphere.radius);
+    }
+    return restir::shoot_photons(sources, rays_, scatter, params, parallel_for);
 }
 
 // Photons per VPL set: a pilot pass measures VPLs per photon, so that the budget gives about
@@ -83,11 +100,38 @@ std::uint32_t LightSet::pilot_photon_count(restir::PhotonParams params) {
                              std::min(4.0e9, 64.0 * static_cast<double>(settings_.vpls))));
 }
 
-// The emitters and this VPL set as one light set, and its tables. Throws SceneError for a
-// shining emitter whose power is no float.
+// The environment's weight in the power table: its power into the scene's bounding sphere, or
+// the weight that gives it --env-share of the others' total.
+float LightSet::environment_weight() const {
+    if (!scene_.environment)
+        return 0.0f;
+    const float power =
+        restir::environment_power(scene_.environment->map, bounding_sphere(scene_).radius);
+    const float share = settings_.environment_share;
+    if (!(share > 0.0f))
+        return power;
+    double others = 0.0;
+    for (const float p : restir::unified_light_powers(lights_, power))
+        others += static_cast<double>(p);
+    others -= static_cast<double>(power);
+    const auto s = static_cast<double>(share);
+    return static_cast<float>(others * s / (1.0 - s));
+}
+
+// The emitters, the environment and this VPL set as one light set, and its tables. Throws
+// SceneError for a shining emitter whose power is no float, or an environment whose weight is
+// none.
 void LightSet::build_light_set(std::uint32_t generation) {
-    lights_ = Unified{&emitters_, vpls_.data(), static_cast<std::uint32_t>(vpls_.size())};
-    const std::vector<float> powers = restir::unified_light_powers(lights_);
+    lights_ =
+        Unified{&emitters_, vpls_.data(), static_cast<std::uint32_t>(vpls_.size()),
+                scene_.environment ? scene_.environment->view() : restir::EnvironmentMapView{}};
+    const float environment = environment_weight();
+    if (scene_.environment && !(environment > 0.0f && environment < 3.0e38f))
+        throw SceneError("the environment's weight among the lights is no float (" +
+                         std::to_string(environment) + "): adjust --env-scale or --env-share");
+    std::vector<float> powers = restir::unified_light_powers(lights_, environment);
+    if (scene_.environment && settings_.environment_sampling == EnvironmentSampling::bsdf)
+        powers[lights_.environment_id()] = 0.0f; // found by BSDF candidates alone
     // unified_light_powers gives a power that overflows a float as 0; a shining emitter with
     // power 0 would never be sampled (and alone gives "all weights are zero"). Emitters do not
     // change between VPL sets: checked once.
@@ -97,22 +141,26 @@ void LightSet::build_light_set(std::uint32_t generation) {
             throw SceneError("emitter " + std::to_string(e) + " of scene '" + scene_.name +
                              "' has no float power: too bright (lower its Ke) or too small");
     }
+    if (std::all_of(powers.begin(), powers.end(), [](float p) { return p == 0.0f; }))
+        throw SceneError("scene '" + scene_.name +
+                         "' has no light for light candidates: with --env-sampling bsdf it needs "
+                         "emitters");
     light_table_.build(powers);
-    emitter_table_.build(std::span<const float>(powers.data(), emitters_.light_count()));
+    if (emitters_.light_count() > 0)
+        emitter_table_.build(std::span<const float>(powers.data(), emitters_.light_count()));
     if (!vpls_.empty())
-        vpl_table_.build(
-            std::span<const float>(powers.data() + emitters_.light_count(), vpls_.size()));
+        vpl_table_.build(std::span<const float>(powers.data() + lights_.first_vpl(), vpls_.size()));
 }
 
 std::vector<restir::LightBounds> LightSet::light_bounds() const {
-    const std::vector<float> powers = restir::unified_light_powers(lights_);
+    const std::vector<float> powers = restir::unified_light_powers(lights_, environment_weight());
     std::vector<restir::LightBounds> bounds;
     bounds.reserve(powers.size());
     for (std::uint32_t e = 0; e < emitters_.light_count(); ++e)
         bounds.push_back(emitters_.bounds(e, powers[e]));
     for (std::uint32_t v = 0; v < vpls_.size(); ++v)
         bounds.push_back(restir::point_light_bounds(vpls_[v].position, vpls_[v].normal,
-                                                    powers[emitters_.light_count() + v]));
+                                                    powers[lights_.first_vpl() + v]));
     return bounds;
 }
 

@@ -17,15 +17,17 @@
 
 namespace pt {
 
-/// Emitters first (ids [0, emitter count)), then this set's VPLs.
+/// Emitters first (ids [0, emitter count)), then the environment (one id, with one), then this
+/// set's VPLs.
 using Unified = restir::UnifiedLightSet<TriangleEmitters>;
 
 /// The emitters and the VPL set of this frame, with power tables over all of them, the
 /// emitters alone and the VPLs alone.
 class LightSet {
 public:
-    /// Shoots the first VPL set (with --gi vpl). Throws SceneError for a scene without
-    /// emitters, or with a shining emitter whose power is no float. `ray_offset`: how far
+    /// Shoots the first VPL set (with --gi vpl; the environment shoots photons too). Throws
+    /// SceneError for a scene without emitters and without an environment, or with a shining
+    /// emitter whose power is no float. `ray_offset`: how far
     /// photon rays start off surfaces; `extent`: the scene's size (the VPLs' falloff radius).
     LightSet(const Scene& scene, const EmbreeScene& rays, const RenderSettings& settings,
              tbb::task_arena& arena, float ray_offset, float extent);
@@ -37,7 +39,7 @@ public:
     /// the old set, which is not this frame's integrand (docs/noise-and-bias.md).
     bool reshoot_vpls(std::uint32_t frame);
 
-    /// All lights, emitters then VPLs.
+    /// All lights: emitters, the environment, VPLs.
     const Unified& lights() const { return lights_; }
     const TriangleEmitters& emitters() const { return emitters_; }
     const std::vector<restir::Vpl>& vpls() const { return vpls_; }
@@ -63,6 +65,7 @@ private:
     std::vector<restir::Vpl> shoot_photons(const restir::PhotonParams& params);
     std::uint32_t pilot_photon_count(restir::PhotonParams params);
     void build_light_set(std::uint32_t generation);
+    float environment_weight() const;
 
     const Scene& scene_;
     const EmbreeScene& rays_;

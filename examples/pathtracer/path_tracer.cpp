@@ -110,7 +110,7 @@ glm::vec3 PathTracer::vpl_nee(const GSurface& s, restir::Pcg32& rng) const {
         restir::sample_light(restir::PowerLightSampler{lights_.vpl_table().view()}, rng);
     if (!(c.pmf > 0.0f))
         return glm::vec3(0.0f);
-    const restir::LightSampleRef ref{lights_.emitters().light_count() + c.index, {0.0f, 0.0f}};
+    const restir::LightSampleRef ref{lights_.lights().first_vpl() + c.index, {0.0f, 0.0f}};
     if (!visible(ref, s))
         return glm::vec3(0.0f);
     const restir::LightSample vpl = lights_.lights().sample_point(ref.light_id, ref.uv);

@@ -120,6 +120,18 @@ void add_environment_options(CLI::App& app, RenderOptions& options) {
     app.add_option("--env-rotate", options.environment_rotate,
                    "Turns the environment about +Y by this many degrees")
         ->check(finite_number);
+    RenderSettings& settings = options.settings;
+    app.add_option("--env-share", settings.environment_share,
+                   "The environment's share of the light candidates, in (0, 1); 0 (default): "
+                   "in proportion to its power into the scene's bounding sphere")
+        ->check(finite_number & CLI::Range(0.0f, 0.99f));
+    app.add_option("--env-sampling", settings.environment_sampling,
+                   "How candidates find the environment: importance (its map's sampling, as one "
+                   "light among the others) or bsdf (only BSDF-sampled candidates, at every "
+                   "pixel; needs --bsdf-candidates)")
+        ->transform(names<EnvironmentSampling>(
+            {{"importance", EnvironmentSampling::importance}, {"bsdf", EnvironmentSampling::bsdf}}))
+        ->default_str("importance");
 }
 
 // The image and the camera, and how the render runs.
@@ -303,6 +315,9 @@ void check_consistent(const RenderOptions& options) {
     if (settings.packed_history && settings.light_points == LightPoints::solid_angle)
         fail("--packed-history decodes light points as area samples: use --light-points area "
              "with it");
+    if (settings.environment_sampling == EnvironmentSampling::bsdf && settings.bsdf_candidates == 0)
+        fail("--env-sampling bsdf finds the environment through BSDF candidates only: give "
+             "--bsdf-candidates N");
 }
 
 } // namespace

@@ -33,6 +33,11 @@ enum class CandidateSource { power, uniform, bvh, grid };
 /// in the solid angle it subtends from the pixel's surface (restir::sample_triangle_from; the
 /// light tiles keep area points and draw the chosen candidate's point again).
 enum class LightPoints { area, solid_angle };
+/// How RIS candidates find the environment: as one light of the light set, its directions drawn
+/// by the map's importance sampling (restir::EnvironmentMapView::sample), or only through
+/// BSDF-sampled candidates (cosine-weighted at diffuse pixels), which is what importance
+/// sampling is measured against.
+enum class EnvironmentSampling { importance, bsdf };
 /// A still camera, or one that turns about its look-at point a little every frame.
 enum class CameraMotion { none, orbit };
 
@@ -58,6 +63,12 @@ struct RenderSettings {
     /// candidates drawn per pixel by power (restir::resample_lights_and_bsdf); 0: light
     /// candidates from `source` alone.
     std::uint32_t bsdf_candidates = 0;
+    /// The environment's share of the light candidates drawn by power, in (0, 1); 0 takes it in
+    /// proportion to its power (restir::environment_power over the scene's bounding sphere).
+    float environment_share = 0.0f;
+    /// --env-sampling: importance (the default) or bsdf (BSDF candidates at every pixel, the
+    /// environment out of the power table; needs bsdf_candidates > 0).
+    EnvironmentSampling environment_sampling = EnvironmentSampling::importance;
     /// --source grid: cells along the longest side of the scene's box (the other sides in
     /// cells of about the same size). Finer cells give candidates closer to each pixel's
     /// lights, and cost more cells to fill every frame (docs/performance.md).
