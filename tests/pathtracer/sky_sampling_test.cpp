@@ -1,0 +1,111 @@
+// The environment as one light among the emitters in RIS and ReSTIR: on the sun-sky scene (its
+// sun, sky and two lamps), every unbiased way of sampling it estimates the image the reference
+// path tracer does; and the environment's light candidates, by importance, beat BSDF-sampled
+// directions alone.
+#include "environment.hpp"
+#include "renderer.hpp"
+#include "scene.hpp"
+
+#include "support/statistics.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace {
+
+using pt::GlobalIllumination;
+using pt::Method;
+
+// The sun-sky scene under a smaller map (the sun of 2 degrees spans a few of its texels).
+const pt::Scene& sun_sky() {
+    static const pt::Scene scene = [] {
+        pt::SunSkyParams sky;
+        sky.width = 512;
+        sky.height = 256;
+        sky.sun_diameter_degrees = 2.0f;
+        return pt::make_sun_sky_scene(pt::make_sun_sky_environment(sky));
+    }();
+    return scene;
+}
+
+pt::RenderSettings small(const pt::Scene& scene) {
+    pt::RenderSettings s;
+    s.width = 40;
+    s.height = 24;
+    s.camera = *scene.camera;
+    s.gi = GlobalIllumination::none;
+    s.di_frame.spatial.radius = 4.0f;
+    s.threads = 2;
+    return s;
+}
+
+// Sum of the pixels of the image after `frames` frames.
+double brightness(const pt::Scene& scene, const pt::RenderSettings& s, std::uint32_t frames) {
+    pt::Renderer renderer(scene, s);
+    for (std::uint32_t f = 0; f < frames; ++f)
+        renderer.render_frame();
+    double sum = 0.0;
+    for (const glm::vec3& p : renderer.accumulated().pixels)
+        sum += static_cast<double>(p.x + p.y + p.z);
+    return sum;
+}
+
+struct SkySetup {
+    std::string name;
+    Method method;
+    restir::BiasCorrection correction = restir::BiasCorrection::pairwise;
+    std::uint32_t bsdf_candidates = 0u;
+    pt::EnvironmentSampling sampling = pt::EnvironmentSampling::importance;
+    pt::CandidateSource source = pt::CandidateSource::power;
+    bool packed_history = false;
+};
+
+TEST(SkySampling, EveryUnbiasedModeAgreesWithTheReference) {
+    const pt::Scene& scene = sun_sky();
+    const std::vector<SkySetup> setups = {
+        {"reference", Method::reference},
+        {"ris", Method::ris},
+        {"ris, bsdf candidates", Method::ris, {}, 2u},
+        {"ris, environment by bsdf only", Method::ris, {}, 2u, pt::EnvironmentSampling::bsdf},
+        {"restir 1/Z", Method::restir, restir::BiasCorrection::one_over_z},
+        {"restir balance", Method::restir, restir::BiasCorrection::balance_heuristic},
+        {"restir pairwise", Method::restir, restir::BiasCorrection::pairwise},
+        {"restir pairwise, bsdf candidates", Method::restir, restir::BiasCorrection::pairwise, 1u},
+        {"restir pairwise, packed history", Method::restir, restir::BiasCorrection::pairwise, 0u,
+         pt::EnvironmentSampling::importance, pt::CandidateSource::power, true},
+        {"restir pairwise, bvh", Method::restir, restir::BiasCorrection::pairwise, 0u,
+         pt::EnvironmentSampling::importance, pt::CandidateSource::bvh},
+        {"restir pairwise, grid", Method::restir, restir::BiasCorrection::pairwise, 0u,
+         pt::EnvironmentSampling::importance, pt::CandidateSource::grid},
+    };
+    constexpr std::uint64_t seeds = 6;
+    std::vector<restir::test::RunningStats> stats(setups.size());
+    for (std::size_t k = 0; k < setups.size(); ++k)
+        for (std::uint64_t seed = 1; seed <= seeds; ++seed) {
+            pt::RenderSettings s = small(scene);
+            s.method = setups[k].method;
+            s.spp = s.method == Method::reference ? 16u : 1u;
+            s.di_frame.temporal_bias_correction = setups[k].correction;
+            s.di_frame.spatial_bias_correction = setups[k].correction;
+            s.bsdf_candidates = setups[k].bsdf_candidates;
+            s.environment_sampling = setups[k].sampling;
+            s.source = setups[k].source;
+            s.packed_history = setups[k].packed_history;
+            s.seed = seed;
+            stats[k].add(brightness(scene, s, 4));
+        }
+    EXPECT_GT(stats[0].mean(), 0.0);
+    for (std::size_t k = 1; k < setups.size(); ++k) {
+        const double error = std::hypot(stats[0].standard_error(), stats[k].standard_error());
+        std::printf("sun-sky, %-34s %.2f against the reference's %.2f (SE %.2f)\n",
+                    setups[k].name.c_str(), stats[k].mean(), stats[0].mean(), error);
+        EXPECT_LT(std::abs(stats[k].mean() - stats[0].mean()), 4.0 * error) << setups[k].name;
+    }
+}
+
+} // namespace
