@@ -227,7 +227,7 @@ void BM_Environment_Sample(benchmark::State& state) {
     state.SetItemsProcessed(state.iterations());
     state.counters["table_bytes"] = static_cast<double>(map.table_bytes());
 }
-BENCHMARK(BM_Environment_Sample)->Arg(1024)->Arg(4096);
+BENCHMARK(BM_Environment_Sample)->Arg(256)->Arg(1024)->Arg(4096);
 
 // The pdf of a uniformly random direction (the BSDF-sampled side of MIS); the time is per call.
 void BM_Environment_Pdf(benchmark::State& state) {
@@ -243,6 +243,6 @@ void BM_Environment_Pdf(benchmark::State& state) {
     }
     state.SetItemsProcessed(state.iterations());
 }
-BENCHMARK(BM_Environment_Pdf)->Arg(1024)->Arg(4096);
+BENCHMARK(BM_Environment_Pdf)->Arg(256)->Arg(1024)->Arg(4096);
 
 } // namespace

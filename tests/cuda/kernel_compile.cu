@@ -488,3 +488,16 @@ __global__ void glossy_receiver_kernel(float* planes, restir::LightSampleRef* re
     out[i] = picked.contribution_weight +
              mixed.contribution_weight * restir::unshadowed_radiance(mixed.sample, receiver).x;
 }
+
+// The environment light: a draw, the pdf and radiance of its direction, and the mapping both
+// ways, one draw per thread (the view's arrays copied to device memory by the caller).
+__global__ void environment_kernel(restir::EnvironmentMapView environment, float* out) {
+    const auto i = static_cast<std::uint32_t>(blockIdx.x * blockDim.x + threadIdx.x);
+    restir::Pcg32 rng = restir::make_pixel_rng(i, 0u, restir::RngStream::application);
+    const float u0 = next_float(rng);
+    const float u1 = next_float(rng);
+    const restir::EnvironmentSample sample = environment.sample(glm::vec2(u0, u1));
+    const glm::vec3 back = restir::equirect_direction(restir::equirect_uv(sample.direction));
+    out[i] = sample.pdf + environment.pdf(sample.direction) + environment.radiance(back).y +
+             sample.radiance.x;
+}

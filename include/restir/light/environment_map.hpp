@@ -68,24 +68,66 @@ struct ReusedChoice {
     float rest = 0.0f; ///< In [0, 1): uniform again, independent of the index given it.
 };
 
-/// Picks a bucket of `entries` (`count` > 0) from the top bits of u, tests the bucket's
-/// threshold with the bits left below them, and remaps what is left after the test to [0, 1)
-/// (as pbrt-v4's SampleDiscrete remaps its number): fraction / t when the bucket is kept,
-/// (fraction - t) / (1 - t) when its alias is taken.
-RESTIR_HOST_DEVICE inline ReusedChoice choose_reusing(const AliasEntry* entries,
-                                                      std::uint32_t count, float u) {
+/// A bucket of a table of `count` entries picked by the top bits of a uniform number u (its 24
+/// bits times count, in fixed point), and the bits below them.
+struct UniformBucket {
+    std::uint32_t index = 0u;    ///< floor(u count), in [0, count).
+    std::uint32_t fraction = 0u; ///< In [0, 2^24): the position inside the bucket.
+};
+
+RESTIR_HOST_DEVICE inline UniformBucket uniform_bucket(float u, std::uint32_t count) {
     const std::uint64_t scaled = std::uint64_t{unit_bits24(u)} * count;
-    const auto bucket = static_cast<std::uint32_t>(scaled >> 24);
-    const AliasEntry entry = entries[bucket];
+    return {static_cast<std::uint32_t>(scaled >> 24),
+            static_cast<std::uint32_t>(scaled & 0xffffffu)};
+}
+
+/// Tests the threshold of `entries[bucket.index]` with the bucket's fraction and remaps what is
+/// left after the test to [0, 1) (as pbrt-v4's SampleDiscrete remaps its number): fraction / t
+/// when the bucket is kept, (fraction - t) / (1 - t) when its alias is taken.
+RESTIR_HOST_DEVICE inline ReusedChoice choose_reusing(const AliasEntry* entries,
+                                                      UniformBucket bucket) {
+    const AliasEntry entry = entries[bucket.index];
     // Both exact in float: the fraction is below 2^24, the threshold scaled by a power of two.
-    const auto fraction = static_cast<float>(static_cast<std::uint32_t>(scaled & 0xffffffu));
+    const auto fraction = static_cast<float>(bucket.fraction);
     const float threshold = entry.threshold * 16777216.0f;
     const bool keep = fraction < threshold;
     // Kept: fraction < threshold, so the divisor is > 0; aliased: threshold <= fraction < 2^24.
     const float numerator = select_float(keep, fraction, fraction - threshold);
     const float denominator = select_float(keep, threshold, 16777216.0f - threshold);
     const float rest = min_of(numerator / denominator, 0.99999994f);
-    return {select_bits(keep, bucket, entry.alias), rest};
+    return {select_bits(keep, bucket.index, entry.alias), rest};
+}
+
+/// sin and cos of `x` in [-pi, pi] (outside it, of x reduced by one quarter turn too few),
+/// inline and branch-free: x = k pi / 2 + r with |r| <= pi / 4 (pi / 2 split in two floats so
+/// that r keeps its bits), the Taylor polynomials of sin r to r^9 and cos r to r^10 (truncation
+/// below 2e-9 on [-pi / 4, pi / 4], under the float rounding), then the quadrant k mod 4 swaps
+/// and negates them. Within 1.5e-7 of sin and cos (2 float ulps at 1; tested), inline where the
+/// C library's sincosf is a call with a general range reduction (a third of a draw's time).
+struct SinCos {
+    float sin = 0.0f;
+    float cos = 1.0f;
+};
+
+RESTIR_HOST_DEVICE inline SinCos sin_cos_half_turn(float x) {
+    const float k = std::nearbyint(x * 0.636619772f);           // 2 / pi
+    const float r = (x - k * 1.57079637f) + k * 4.37113883e-8f; // pi / 2 = 1.57079637 - 4.37e-8
+    const float r2 = r * r;
+    const float s =
+        r + r * r2 *
+                (-1.0f / 6.0f +
+                 r2 * (1.0f / 120.0f + r2 * (-1.0f / 5040.0f + r2 * (1.0f / 362880.0f))));
+    const float c =
+        1.0f + r2 * (-0.5f + r2 * (1.0f / 24.0f +
+                                   r2 * (-1.0f / 720.0f +
+                                         r2 * (1.0f / 40320.0f + r2 * (-1.0f / 3628800.0f)))));
+    const auto quadrant = static_cast<std::uint32_t>(static_cast<std::int32_t>(k)) & 3u;
+    const bool swap = (quadrant & 1u) != 0u;
+    const float sin_value = select_float(swap, c, s);
+    const float cos_value = select_float(swap, s, c);
+    // Quadrants 2 and 3 negate sin; 1 and 2 negate cos.
+    return {select_float(quadrant >= 2u, -sin_value, sin_value),
+            select_float(quadrant == 1u || quadrant == 2u, -cos_value, cos_value)};
 }
 
 } // namespace detail
@@ -159,20 +201,27 @@ struct EnvironmentMapView {
     RESTIR_HOST_DEVICE EnvironmentSample sample(glm::vec2 u) const {
         if (empty())
             return {};
-        const detail::ReusedChoice row = detail::choose_reusing(row_table, height, u.x);
+        const detail::ReusedChoice row =
+            detail::choose_reusing(row_table, detail::uniform_bucket(u.x, height));
+        const std::size_t row_start = std::size_t{row.index} * width;
+        const detail::UniformBucket column_bucket = detail::uniform_bucket(u.y, width);
+        // The texel of the column's own bucket, which it keeps with probability threshold
+        // (mostly near 1 in a smooth sky): asked for now, its cache miss overlaps the table
+        // entry's instead of following it (host only).
+        RESTIR_PREFETCH(texels + row_start + column_bucket.index);
         const detail::ReusedChoice column =
-            detail::choose_reusing(column_tables + std::size_t{row.index} * width, width, u.y);
+            detail::choose_reusing(column_tables + row_start, column_bucket);
         const float cos_top = row_cos[row.index];
         const float cos_bottom = row_cos[row.index + 1u];
         const float cos_theta = cos_top + row.rest * (cos_bottom - cos_top);
         // (1 - c)(1 + c): no cancellation near the poles.
         const float sin_theta = std::sqrt(max_of(0.0f, (1.0f - cos_theta) * (1.0f + cos_theta)));
-        const float phi =
-            two_pi *
-            ((static_cast<float>(column.index) + column.rest) / static_cast<float>(width) - 0.5f);
-        const glm::vec3 map_direction{sin_theta * std::sin(phi), cos_theta,
-                                      -sin_theta * std::cos(phi)};
-        const glm::vec3 texel = texels[std::size_t{row.index} * width + column.index];
+        const float phi = (static_cast<float>(column.index) + column.rest) *
+                              (two_pi / static_cast<float>(width)) -
+                          pi;
+        const detail::SinCos turn = detail::sin_cos_half_turn(phi);
+        const glm::vec3 map_direction{sin_theta * turn.sin, cos_theta, -sin_theta * turn.cos};
+        const glm::vec3 texel = texels[row_start + column.index];
         return {to_world(map_direction), texel * scale,
                 environment_luminance(texel) * inverse_luminance_integral};
     }
