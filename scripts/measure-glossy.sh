@@ -34,40 +34,8 @@ render=build/render/examples/pathtracer/restir-render
 dir=${OUT_DIR:-out/glossy}
 mkdir -p "$dir"
 
-run() { nice -n 10 "$render" "$@" >/dev/null; }
-smaller() { awk -v a="$1" -v b="$2" 'BEGIN { print a < b ? a : b }'; }
-
-# stat CSV COLUMN HOW: mean (frames 2..N), meansq (mean of the squares, frames 2..N), median
-# (frames 2..N) or last (frame N).
-stat() {
-  if [ "$3" = median ]; then
-    awk -F, -v name="$2" 'NR == 1 { for (i = 1; i <= NF; ++i) if ($i == name) c = i; next }
-      NR > 2 { print $c }' "$1" | sort -g | awk '{ v[NR] = $1 } END {
-      printf "%.4g\n", NR % 2 ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'
-    return
-  fi
-  awk -F, -v name="$2" -v how="$3" '
-    NR == 1 { for (i = 1; i <= NF; ++i) if ($i == name) c = i; next }
-    { last = $c } NR > 2 { n++; s += $c; q += $c * $c }
-    END {
-      if (how == "last") print last
-      else if (how == "mean") printf "%.4g\n", s / n
-      else printf "%.4g\n", q / n
-    }' "$1"
-}
-
-# reference NAME SPP SCENE-FLAGS...: renders (once) and prints the path of a reference image.
-reference() {
-  local name=$1 spp=$2
-  shift 2
-  local image="$dir/reference-$name-${spp}spp.pfm"
-  [ -f "$image" ] || nice -n 10 "$render" "$@" --seed 1 --method reference --spp "$spp" --frames 1 \
-    --out "$image" --out "${image%.pfm}.png" >"${image%.pfm}.log"
-  echo "$image"
-}
-
-# exposure REFERENCE: the PNG exposure the reference was written with.
-exposure() { sed -n 's/.*(exposure \(.*\))$/\1/p' "${1%.pfm}.log" | tail -n 1; }
+# shellcheck source=scripts/measure-lib.sh
+source scripts/measure-lib.sh
 
 # reference_noise REFERENCE SPP SCENE-FLAGS...: the reference's own variance per pixel, over all
 # pixels and over the glossy ones: one 1 spp NEE frame has variance v + v / SPP against it.
