@@ -284,6 +284,7 @@ struct GridLights {
         }
     }
     bool is_distant(std::uint32_t id) const { return id >= first && id < first + count; }
+    bool is_local(std::uint32_t id) const { return !is_distant(id) && id < light_count(); }
     std::uint32_t local_of(std::uint32_t id) const { return id < first ? id : id - count; }
     std::uint32_t light_count() const { return local_count + count; }
     // What light `id` gives a point (the importance bound, exact for a point light), and a
@@ -291,11 +292,13 @@ struct GridLights {
     double contribution(std::uint32_t id, const ShadingPoint& at) const {
         if (is_distant(id))
             return 3.0 + (id - first);
+        if (!is_local(id))
+            return 0.0;
         return static_cast<double>(restir::light_importance(local_nodes[local_of(id)], at));
     }
     restir::LightSample sample_point(std::uint32_t id, glm::vec2) const {
         restir::LightSample p;
-        p.position = is_distant(id) ? glm::vec3(1e6f) : bounds[local_of(id)].lower;
+        p.position = is_local(id) ? bounds[local_of(id)].lower : glm::vec3(1e6f);
         p.radiance = glm::vec3(1.0f);
         p.area_pdf = 1.0f;
         p.is_delta = true;
@@ -312,11 +315,13 @@ struct GridFixture {
     explicit GridFixture(const Placement& place)
         : lights(place.first, place.count), table(lights.powers) {}
     restir::PowerLightSampler sampler() const { return {table.view()}; }
-    // Bounds by the application's id; never asked for a distant light.
+    // Bounds by the application's id; never asked for a distant light (nor past the end).
     auto node_of() const {
         return [this](std::uint32_t id) -> const restir::LightBvhNode& {
-            EXPECT_FALSE(lights.is_distant(id)) << id;
-            return lights.local_nodes[lights.local_of(id)];
+            static const restir::LightBvhNode none{};
+            const bool local = lights.is_local(id);
+            EXPECT_TRUE(local) << "bounds asked for light " << id;
+            return local ? lights.local_nodes[lights.local_of(id)] : none;
         };
     }
 };
