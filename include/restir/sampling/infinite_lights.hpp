@@ -28,9 +28,12 @@ namespace restir {
 
 /// The default probability of choosing a distant light: in proportion to power,
 /// P = distant power / (distant power + local power). Each power is the total emitted power of
-/// its lights, in the same units (for an environment map, pi times its average radiance times
-/// the area of the scene's bounding disc is the usual estimate). A power that is not a finite
-/// number >= 0 counts as 0. P is 0 without distant power and 1 without local power.
+/// its lights, in the same units. For an environment map the usual estimate is the power it
+/// sends through a disc of the scene's bounding radius r: 4 pi times its average radiance times
+/// pi r^2 (for a sun, its irradiance times pi r^2). A power that is not a finite number >= 0
+/// counts as 0. P is 0 without distant power and 1 without local power. Any P keeps the pmf
+/// exact; RIS stays unbiased while P > 0 for a scene that a distant light lights and P < 1 for
+/// one that a local light lights.
 RESTIR_HOST_DEVICE constexpr float distant_light_probability(float distant_power,
                                                              float local_power) noexcept {
     const float distant = is_valid_weight(distant_power) ? distant_power : 0.0f;
@@ -180,22 +183,13 @@ private:
     }
 };
 
-/// `local` with `count` distant lights beside it at ids [first, first + count), each chosen
-/// with probability P / count. Pass `distant_light_probability(distant_power, local_power)`
-/// as P for the default, in proportion to power. P is clamped to [0, 1], NaN counts as 0, and
-/// P is 0 when count is 0. `first` must be at most N, the local light count; a larger one is
-/// clamped to N (asserted in debug builds).
-template <class Local>
-requires LightSampler<Local> || ContextLightSampler<Local>
-    RESTIR_HOST_DEVICE constexpr WithDistantLights<Local>
-    with_distant_lights(const Local& local, std::uint32_t first, std::uint32_t count,
-                        float probability) noexcept {
-    return with_distant_lights(local, first, UniformLightSampler{count}, probability);
-}
-
-/// `with_distant_lights` with the distant lights chosen among themselves by `distant` (say a
-/// `PowerLightSampler` over their powers): distant light i, id first + i, gets P times
-/// `distant.pmf(i)`.
+/// `local` with distant lights beside it at ids [first, first + count), count =
+/// `distant.light_count()`, chosen among themselves by `distant` (say a `PowerLightSampler` over
+/// their powers): distant light i, id first + i, gets P times `distant.pmf(i)`. Pass
+/// `distant_light_probability(distant_power, local_power)` as P for the default, in proportion
+/// to power. P is clamped to [0, 1], NaN counts as 0, and P is 0 when count is 0. `first` must
+/// be at most N, the local light count; a larger one is clamped to N (asserted in debug
+/// builds).
 template <class Local, LightSampler Distant>
 requires LightSampler<Local> || ContextLightSampler<Local>
     RESTIR_HOST_DEVICE constexpr WithDistantLights<Local, Distant>
@@ -207,6 +201,16 @@ requires LightSampler<Local> || ContextLightSampler<Local>
     // In this order NaN ends as 0 (every comparison with it is false).
     const float p = any ? min_of(max_of(0.0f, probability), 1.0f) : 0.0f;
     return {local, {min_of(first, local_count), p, distant}};
+}
+
+/// `local` with `count` distant lights beside it at ids [first, first + count), each chosen
+/// with probability P / count (the overload above with `UniformLightSampler{count}`).
+template <class Local>
+requires LightSampler<Local> || ContextLightSampler<Local>
+    RESTIR_HOST_DEVICE constexpr WithDistantLights<Local>
+    with_distant_lights(const Local& local, std::uint32_t first, std::uint32_t count,
+                        float probability) noexcept {
+    return with_distant_lights(local, first, UniformLightSampler{count}, probability);
 }
 
 /// `resample_grid_tile` with distant lights beside the grid (sampling/light_grid.hpp). Each
