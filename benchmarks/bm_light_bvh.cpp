@@ -1,6 +1,7 @@
 // Microbenchmarks of the light BVH (restir/light/light_bvh.hpp) at 1k and 1M lights: building
 // it, one draw (`BM_LightBvh_Sample`) and one pmf at a shading point, beside one draw of the
-// power sampler (alias table) over the same lights, and `BM_RandomRead`: the machine's time for
+// power sampler (alias table) over the same lights, a draw with a distant light beside the tree
+// (`BM_LightBvh_SampleWithDistant`), and `BM_RandomRead`: the machine's time for
 // one read that depends on the last, at random places in arrays of 1-64 MB, the floor under a
 // draw whose data does not fit in cache. `BM_Environment_Sample` and `BM_Environment_Pdf`: one
 // draw and one pdf of an environment light (restir/light/environment_map.hpp) at 1024 x 512 and
@@ -16,6 +17,7 @@
 #include "restir/light/environment_map.hpp"
 #include "restir/light/light_bvh.hpp"
 #include "restir/sampling/alias_table.hpp"
+#include "restir/sampling/infinite_lights.hpp"
 #include "restir/sampling/light_sampler.hpp"
 
 #include <benchmark/benchmark.h>
@@ -99,6 +101,26 @@ void BM_LightBvh_Sample(benchmark::State& state) {
     state.counters["found"] = static_cast<double>(found) / static_cast<double>(state.iterations());
 }
 BENCHMARK(BM_LightBvh_Sample)->Arg(1000)->Arg(1 << 20);
+
+// `BM_LightBvh_Sample` with one distant light beside the tree, in the middle of the id space
+// (`WithDistantLights`, sampling/infinite_lights.hpp), chosen with probability
+// state.range(1) / 100: at 0 every draw descends the tree, which shows the wrapper's own cost
+// (the split of u0 and the id mapping); at 10, one draw in ten takes the distant light.
+void BM_LightBvh_SampleWithDistant(benchmark::State& state) {
+    const auto count = static_cast<std::uint32_t>(state.range(0));
+    const auto sampler = restir::with_distant_lights(bvh(count).view(), count / 2u, 1u,
+                                                     static_cast<float>(state.range(1)) / 100.0f);
+    restir::Pcg32 rng = restir::make_pixel_rng(1u, 0u, 0u, 1u);
+    std::uint32_t i = 0u, found = 0u;
+    for (auto _ : state) {
+        const restir::DiscreteSample s = restir::sample_light(sampler, floor_point(i++), rng);
+        found += s.pmf > 0.0f ? 1u : 0u;
+        benchmark::DoNotOptimize(s);
+    }
+    state.SetItemsProcessed(state.iterations());
+    state.counters["found"] = static_cast<double>(found) / static_cast<double>(state.iterations());
+}
+BENCHMARK(BM_LightBvh_SampleWithDistant)->Args({1000, 0})->Args({1 << 20, 0})->Args({1 << 20, 10});
 
 // `Batch` draws at each shading point through the batch overload, whose descents advance side
 // by side (the renderer's `--source bvh` draws its candidates four at a time); "per_draw" is

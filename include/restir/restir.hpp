@@ -48,6 +48,7 @@
 #include "restir/sampling/alias_table.hpp"
 #include "restir/sampling/bsdf_candidates.hpp"
 #include "restir/sampling/diffuse_direction.hpp"
+#include "restir/sampling/infinite_lights.hpp"
 #include "restir/sampling/light_candidates.hpp"
 #include "restir/sampling/light_grid.hpp"
 #include "restir/sampling/light_sampler.hpp"

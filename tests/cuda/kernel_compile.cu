@@ -183,6 +183,43 @@ __global__ void light_grid_kernel(restir::LightGridLayout grid, const restir::Li
                                });
 }
 
+// Distant lights beside the light BVH and beside a grid cell's tile: a draw and a pmf of the
+// mixture at a shading point, a draw beside the power sampler, and a tile whose entries are
+// distant with probability P.
+__global__ void distant_lights_kernel(restir::LightBvhView bvh, restir::LightGridLayout grid,
+                                      const restir::LightBvhNode* nodes, const glm::vec3* emitters,
+                                      std::uint32_t emitter_count,
+                                      const restir::AliasEntry* alias_entries,
+                                      restir::GridCandidate* scratch,
+                                      restir::PresampledLight* cell_entries, float* out) {
+    const auto i = static_cast<std::uint32_t>(blockIdx.x * blockDim.x + threadIdx.x);
+    restir::Pcg32 rng = restir::make_pixel_rng(i, 0u, restir::RngStream::application);
+    const float p = restir::distant_light_probability(2.0f, 5.0f);
+    const restir::WithDistantLights<restir::LightBvhView> sampler =
+        restir::with_distant_lights(bvh, bvh.light_count() / 2u, 1u, p);
+    const restir::ShadingPoint at{glm::vec3(static_cast<float>(i), 1.0f, 0.0f),
+                                  glm::vec3(0.0f, 1.0f, 0.0f)};
+    const restir::SourceSample<restir::LightSampleRef> c =
+        restir::draw_light_candidate(sampler, at, rng);
+    const restir::PowerLightSampler power{
+        restir::AliasTableView{alias_entries, emitter_count - 1u}};
+    const auto beside_power = restir::with_distant_lights(power, 0u, 1u, p);
+    const restir::DiscreteSample d = restir::sample_light(beside_power, rng);
+    const PointEmitters lights{emitters, emitter_count};
+    const auto node_of = [nodes](std::uint32_t id) -> const restir::LightBvhNode& {
+        return nodes[id];
+    };
+    constexpr std::uint32_t entries = 8u, per_entry = 4u;
+    const std::uint32_t cell = i % grid.cell_count();
+    restir::resample_grid_tile_with_distant(
+        power, sampler.distant, grid.cell_region(cell), node_of, lights, rng, entries, per_entry,
+        scratch + i * entries * per_entry,
+        [&](std::uint32_t j, const restir::PresampledLight& entry) {
+            cell_entries[i * entries + j] = entry;
+        });
+    out[i] = c.pdf + sampler.pmf(at, c.sample.light_id) + d.pmf + beside_power.pmf(d.index);
+}
+
 // Batch RIS over structure-of-arrays tiles, with reservoirs that carry their light point:
 // the tile fill, the block evaluation, the selection, the point sample and its visibility.
 struct NeverOccluded {
