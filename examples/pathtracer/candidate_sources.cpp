@@ -128,8 +128,9 @@ private:
     restir::LightTileArrays tiles_;
 };
 
-// Candidates drawn from a light BVH over the light set for the pixel's surface (the source pdf:
-// the light's pmf there).
+// Candidates drawn from a light BVH over the local lights for the pixel's surface (the source
+// pdf: the light's pmf there), the environment beside it with its share of the power table
+// (restir::WithDistantLights).
 class BvhCandidates final : public InitialCandidates {
 public:
     BvhCandidates(const RenderSettings& settings, const LightSet& lights)
@@ -145,7 +146,12 @@ public:
     }
 
 private:
-    void build() { light_bvh_.emplace(lights_.light_bounds()); }
+    void build() {
+        const std::vector<restir::LightBounds> bounds = lights_.light_bounds();
+        light_bvh_.reset();
+        if (!bounds.empty())
+            light_bvh_.emplace(bounds);
+    }
     Reservoir bvh_reservoir(const GSurface& s, restir::Pcg32& rng) const;
 
     const RenderSettings& settings_;
@@ -158,7 +164,10 @@ private:
 // lights about a third faster (docs/performance.md).
 Reservoir BvhCandidates::bvh_reservoir(const GSurface& s, restir::Pcg32& rng) const {
     constexpr std::uint32_t batch = 4;
-    const restir::LightBvhView bvh = light_bvh_->view();
+    const restir::LightBvhView bvh = light_bvh_ ? light_bvh_->view() : restir::LightBvhView{};
+    const restir::DistantLights<> distant = lights_.distant_lights();
+    const auto sampler =
+        restir::with_distant_lights(bvh, distant.first, distant.count(), distant.probability);
     const restir::ShadingPoint at{s.position, s.normal};
     const std::uint32_t candidates = settings_.candidates;
     restir::DiscreteSample drawn[batch];
@@ -166,7 +175,7 @@ Reservoir BvhCandidates::bvh_reservoir(const GSurface& s, restir::Pcg32& rng) co
     return restir::resample_ris(
         rng, candidates,
         [&](restir::Pcg32& g) {
-            if (ready == 0u && candidates - taken >= batch) {
+            if (ready == 0u && candidates - taken >= batch && distant.count() == 0u) {
                 float u0[batch], u1[batch];
                 for (std::uint32_t k = 0; k < batch; ++k) {
                     u0[k] = next_float(g);
@@ -176,7 +185,7 @@ Reservoir BvhCandidates::bvh_reservoir(const GSurface& s, restir::Pcg32& rng) co
                 ready = batch;
             }
             const restir::DiscreteSample choice =
-                ready > 0u ? drawn[batch - ready--] : restir::sample_light(bvh, at, g);
+                ready > 0u ? drawn[batch - ready--] : restir::sample_light(sampler, at, g);
             ++taken;
             if (settings_.light_points == LightPoints::solid_angle)
                 return restir::with_receiver_point(choice, lights_.lights(), s.position,
@@ -247,12 +256,20 @@ private:
     std::vector<std::uint32_t> pixel_tiles_;  // per pixel: its tile this frame
 };
 
+// Indexed by the light set's ids: the environment's is a placeholder, never read (the tiles
+// keep it beside the grid).
 void GridCandidates::build() {
     const std::vector<restir::LightBounds> bounds = lights_.light_bounds();
+    const restir::DistantLights<> distant = lights_.distant_lights();
     light_nodes_.clear();
-    light_nodes_.reserve(bounds.size());
-    for (const restir::LightBounds& b : bounds)
-        light_nodes_.push_back(restir::light_bvh_node(b));
+    light_nodes_.reserve(bounds.size() + distant.count());
+    for (std::uint32_t i = 0; i < bounds.size(); ++i) {
+        if (i == distant.first)
+            light_nodes_.insert(light_nodes_.end(), distant.count(), restir::LightBvhNode{});
+        light_nodes_.push_back(restir::light_bvh_node(bounds[i]));
+    }
+    if (light_nodes_.size() < bounds.size() + distant.count())
+        light_nodes_.insert(light_nodes_.end(), distant.count(), restir::LightBvhNode{});
 }
 
 void GridCandidates::prepare_frame(std::uint32_t frame_index, std::span<const GSurface> surfaces) {
@@ -279,7 +296,8 @@ void GridCandidates::prepare_frame(std::uint32_t frame_index, std::span<const GS
 
 // The tiles of the cells looked up, resampled in parallel.
 void GridCandidates::fill_tiles(std::uint32_t frame_index, std::uint32_t tiles_used) {
-    const restir::PowerLightSampler power{lights_.power_table().view()};
+    const restir::PowerLightSampler local{lights_.local_power_table().view()};
+    const restir::DistantLights<> distant = lights_.distant_lights();
     const auto node_of = [this](std::uint32_t id) -> const restir::LightBvhNode& {
         return light_nodes_[id];
     };
@@ -293,8 +311,8 @@ void GridCandidates::fill_tiles(std::uint32_t frame_index, std::uint32_t tiles_u
                     const std::uint32_t cell = used_cells_[t];
                     restir::Pcg32 rng = restir::make_pixel_rng(
                         cell, frame_index, RenderStream::light_tiles, settings_.seed);
-                    restir::resample_grid_tile(
-                        power, grid_.cell_region(cell), node_of, lights_.lights(), rng,
+                    restir::resample_grid_tile_with_distant(
+                        local, distant, grid_.cell_region(cell), node_of, lights_.lights(), rng,
                         tile_entries_[t], grid_fill_candidates, candidates.data(),
                         [&](std::uint32_t j, const restir::PresampledLight& entry) {
                             grid_tiles_.store(grid_starts_[t] + j / grid_tile_minimum,

@@ -146,10 +146,30 @@ void LightSet::build_light_set(std::uint32_t generation) {
                          "' has no light for light candidates: with --env-sampling bsdf it needs "
                          "emitters");
     light_table_.build(powers);
+    build_local_table(powers);
     if (emitters_.light_count() > 0)
         emitter_table_.build(std::span<const float>(powers.data(), emitters_.light_count()));
     if (!vpls_.empty())
         vpl_table_.build(std::span<const float>(powers.data() + lights_.first_vpl(), vpls_.size()));
+}
+
+// The local lights' table, and the environment's share of all lights beside them.
+void LightSet::build_local_table(std::vector<float> powers) {
+    double total = 0.0;
+    for (const float p : powers)
+        total += static_cast<double>(p);
+    distant_ = {};
+    if (lights_.environment_count() > 0u) {
+        const auto id = static_cast<std::ptrdiff_t>(lights_.environment_id());
+        distant_ = {
+            lights_.environment_id(),
+            static_cast<float>(static_cast<double>(powers[static_cast<std::size_t>(id)]) / total),
+            restir::UniformLightSampler{1u}};
+        powers.erase(powers.begin() + id);
+    }
+    local_table_ = {};
+    if (std::any_of(powers.begin(), powers.end(), [](float p) { return p > 0.0f; }))
+        local_table_.build(powers);
 }
 
 std::vector<restir::LightBounds> LightSet::light_bounds() const {

@@ -45,14 +45,21 @@ public:
     const std::vector<restir::Vpl>& vpls() const { return vpls_; }
     /// All lights by power (candidates).
     const restir::AliasTable& power_table() const { return light_table_; }
+    /// The environment beside samplers of the local lights (the light BVH, the grid): its id and
+    /// the probability of choosing it, its share of `power_table` (no distant light without an
+    /// environment; probability 0 under --env-sampling bsdf).
+    restir::DistantLights<> distant_lights() const { return distant_; }
+    /// The local lights (emitters and VPLs, the environment left out) by power, in local ids
+    /// (`distant_lights().local_id`); empty when there are none.
+    const restir::AliasTable& local_power_table() const { return local_table_; }
     /// The emitters alone by power (path tracing NEE).
     const restir::AliasTable& emitter_table() const { return emitter_table_; }
     /// The VPLs alone by power (the reference's VPL NEE); empty without VPLs.
     const restir::AliasTable& vpl_table() const { return vpl_table_; }
     /// The VPLs' distance falloff.
     const restir::Falloff& falloff() const { return falloff_; }
-    /// Every light's emission bounds (emitters as area lights, VPLs as cosine emitters), in
-    /// light id order: for a light BVH or per-light bounds.
+    /// Every local light's emission bounds (emitters as area lights, VPLs as cosine emitters),
+    /// in local id order (the environment left out): for a light BVH or per-light bounds.
     std::vector<restir::LightBounds> light_bounds() const;
 
     /// Milliseconds the last photon shooting took.
@@ -66,6 +73,7 @@ private:
     std::uint32_t pilot_photon_count(restir::PhotonParams params);
     void build_light_set(std::uint32_t generation);
     float environment_weight() const;
+    void build_local_table(std::vector<float> powers);
 
     const Scene& scene_;
     const EmbreeScene& rays_;
@@ -78,7 +86,8 @@ private:
     double photon_ms_ = 0.0;
     std::optional<std::uint32_t> photons_per_set_;
     Unified lights_;
-    restir::AliasTable light_table_, emitter_table_, vpl_table_;
+    restir::AliasTable light_table_, local_table_, emitter_table_, vpl_table_;
+    restir::DistantLights<> distant_;
 };
 
 } // namespace pt
