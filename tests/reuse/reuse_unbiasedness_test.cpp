@@ -40,6 +40,7 @@ struct ReuseSetup {
     // Initial candidates from two strategies (resample_ris_mis): lights uniformly, and lights
     // in proportion to the receiver's BSDF density towards them (the glossy world's guided_pmf).
     bool guided = false;
+    bool sky = false; // the sky world: a third of the lights distant (directions)
 };
 
 std::string name_of(const ReuseSetup& s) {
@@ -48,7 +49,7 @@ std::string name_of(const ReuseSetup& s) {
     return std::string(modes[static_cast<int>(s.mode)]) + "/" + passes[static_cast<int>(s.passes)] +
            (s.visibility_reuse ? "" : "/no-visibility-reuse") + (s.retest ? "/retested" : "") +
            (s.mis_rays ? "" : "/ray-free") + (s.glossy ? "/glossy" : "") +
-           (s.guided ? "/bsdf-candidates" : "");
+           (s.guided ? "/bsdf-candidates" : "") + (s.sky ? "/sky" : "");
 }
 
 void PrintTo(const ReuseSetup& setup, std::ostream* os) { *os << name_of(setup); }
@@ -58,7 +59,9 @@ void PrintTo(const ReuseSetup& setup, std::ostream* os) { *os << name_of(setup);
 class Pipeline {
 public:
     explicit Pipeline(const ReuseSetup& setup)
-        : setup_(setup), world_(setup.glossy ? &glossy_world() : &world()) {
+        : setup_(setup), world_(setup.sky      ? &sky_world()
+                                : setup.glossy ? &glossy_world()
+                                               : &world()) {
         reuse_.bias_correction = setup.mode;
         reuse_.visibility = !setup.visibility_reuse ? restir::ReuseVisibility::none
                             : !setup.mis_rays       ? restir::ReuseVisibility::assumed
@@ -279,6 +282,14 @@ std::vector<ReuseSetup> unbiased_setups() {
                 setup.guided = guided;
                 setups.push_back(setup);
             }
+    // Distant lights (an environment's directions) beside points, at glossy receivers.
+    for (BiasCorrection mode :
+         {BiasCorrection::one_over_z, BiasCorrection::balance_heuristic, BiasCorrection::pairwise})
+        for (Passes passes : {Passes::two_spatial, Passes::both, Passes::fused}) {
+            ReuseSetup setup{mode, passes, true};
+            setup.sky = true;
+            setups.push_back(setup);
+        }
     return setups;
 }
 

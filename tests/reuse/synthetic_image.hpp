@@ -10,7 +10,8 @@
 // frame saw the same patch at (x + 1, y), and the right-most column is disoccluded. Row 1 has
 // wrong motion vectors that point one pixel too far, at a different patch.
 // The truth at a pixel is sum_l f_s(l) for the patch it sees. `glossy_world()` is the same
-// image with p-hat from glossy receivers (make_glossy_world).
+// image with p-hat from glossy receivers (make_glossy_world), `sky_world()` with a third of its
+// lights distant (make_sky_world).
 #pragma once
 
 #include <restir/restir.hpp>
@@ -135,6 +136,46 @@ inline World make_glossy_world() {
 
 inline const World& glossy_world() {
     static const World w = make_glossy_world();
+    return w;
+}
+
+/// The glossy world under a sky: lights 8 to 11 are distant (an environment's directions, as
+/// restir::environment_light_sample makes them: `LightSample::is_distant`, radiance over a
+/// density per steradian), the same direction from every patch, some below the floor's
+/// horizon; lights 0 to 7 stay isotropic points. p-hat is restir::unshadowed_radiance of the
+/// lights' `LightPointSample`s at the patches' GGX receivers, so a distant sample reused at a
+/// neighbour is evaluated there with no position (`positional` 0).
+inline World make_sky_world() {
+    World w = make_glossy_world();
+    const glm::vec3 camera{2.5f, -3.0f, 4.0f};
+    for (std::uint32_t s = 0; s < pixel_count; ++s) {
+        const glm::vec3 position{static_cast<float>(s % width), static_cast<float>(s / width),
+                                 0.0f};
+        restir::GlossyReceiver receiver{
+            position, {0.0f, 0.0f, 1.0f}, glm::normalize(camera - position), {}};
+        receiver.bsdf = restir::GlossyBsdf::from_metallic_roughness(
+            {0.8f, 0.6f, 0.4f}, s / width == 2u ? 1.0f : 0.0f, 0.05f + 0.19f * (s % width));
+        for (std::uint32_t l = 8; l < light_count; ++l) {
+            const std::uint32_t h = hash(l, 91u);
+            restir::LightSample sky;
+            sky.position = glm::normalize(glm::vec3(
+                static_cast<float>(h % 200u) / 100.0f - 1.0f,
+                static_cast<float>((h / 200u) % 200u) / 100.0f - 1.0f, l == 11u ? -0.3f : 0.8f));
+            sky.normal = glm::vec3(0.0f);
+            sky.radiance = glm::vec3(0.5f + 0.3f * static_cast<float>(l % 3u));
+            sky.area_pdf = 0.25f; // per steradian
+            sky.is_distant = true;
+            const restir::LightPointSample point =
+                restir::make_light_point_sample(l, sky, restir::Falloff::exact());
+            w.target[s][l] = restir::fold_channels<restir::ChannelNorm::sum>(
+                restir::unshadowed_radiance(point, receiver));
+        }
+    }
+    w.sum_truth();
+    return w;
+}
+inline const World& sky_world() {
+    static const World w = make_sky_world();
     return w;
 }
 
