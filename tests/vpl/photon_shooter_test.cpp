@@ -346,8 +346,9 @@ TEST(SkyPhotons, FloorReflectsTheSkysIrradiance) {
             });
         const glm::dvec3 irradiance =
             upper_irradiance(c.texels, c.width, c.height, static_cast<double>(c.scale));
-        if (std::string(c.name) == "uniform")
+        if (std::string(c.name) == "uniform") {
             EXPECT_NEAR(irradiance.y, std::numbers::pi, 1e-9);
+        }
         for (int k = 0; k < 3; ++k) {
             const double expected =
                 static_cast<double>(run.albedo[k]) * floor.area() * irradiance[k];

@@ -3,18 +3,18 @@
 /// looked up piecewise constant and importance-sampled in O(1) in proportion to luminance times
 /// solid angle (a marginal alias table over rows, a conditional one per row; the 2D
 /// piecewise-constant construction of Pharr, Jakob and Humphreys, "Physically Based Rendering",
-/// 3rd ed., section 13.6.7, with Walker's alias tables in place of CDF inversion).
+/// 3rd ed., section 13.6.7, with Walker's alias tables (Vose's construction) in place of CDF
+/// inversion). The tables have their own 8-byte entry: a draw reads no pmf (the density is the
+/// texel's luminance over the map's integral), and light/ cannot include sampling/, which
+/// includes light/.
 #pragma once
 
 #include "restir/config.hpp"
 #include "restir/core/math.hpp"
-#include "restir/sampling/alias_table.hpp"
-#include "restir/sampling/alias_table_view.hpp"
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
-#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -60,6 +60,17 @@ RESTIR_HOST_DEVICE inline float environment_luminance(glm::vec3 radiance) {
     return 0.2126f * radiance.x + 0.7152f * radiance.y + 0.0722f * radiance.z;
 }
 
+/// One bucket of the environment map's alias tables (Walker's method): keep the bucket when the
+/// bits left of the uniform number after choosing it are below `threshold`, otherwise take
+/// `alias`. 8 bytes, so that 8 share a cache line; no pmf, which a draw does not read.
+struct EnvironmentAliasEntry {
+    float threshold = 1.0f;
+    std::uint32_t alias = 0u;
+};
+
+static_assert(std::is_trivially_copyable_v<EnvironmentAliasEntry>);
+static_assert(sizeof(EnvironmentAliasEntry) == 8);
+
 namespace detail {
 
 /// An alias-table choice made from one uniform number, with what is left of the number.
@@ -84,9 +95,9 @@ RESTIR_HOST_DEVICE inline UniformBucket uniform_bucket(float u, std::uint32_t co
 /// Tests the threshold of `entries[bucket.index]` with the bucket's fraction and remaps what is
 /// left after the test to [0, 1) (as pbrt-v4's SampleDiscrete remaps its number): fraction / t
 /// when the bucket is kept, (fraction - t) / (1 - t) when its alias is taken.
-RESTIR_HOST_DEVICE inline ReusedChoice choose_reusing(const AliasEntry* entries,
+RESTIR_HOST_DEVICE inline ReusedChoice choose_reusing(const EnvironmentAliasEntry* entries,
                                                       UniformBucket bucket) {
-    const AliasEntry entry = entries[bucket.index];
+    const EnvironmentAliasEntry entry = entries[bucket.index];
     // Both exact in float: the fraction is below 2^24, the threshold scaled by a power of two.
     const auto fraction = static_cast<float>(bucket.fraction);
     const float threshold = entry.threshold * 16777216.0f;
@@ -140,10 +151,10 @@ struct EnvironmentMapView {
     std::uint32_t width = 0u;
     std::uint32_t height = 0u;
     /// Marginal alias table over rows (`height` entries), weights sum_x luminance * solid angle.
-    const AliasEntry* row_table = nullptr;
+    const EnvironmentAliasEntry* row_table = nullptr;
     /// One conditional alias table per row (`width` entries each, row after row), weights the
     /// texels' luminance; indices are within the row.
-    const AliasEntry* column_tables = nullptr;
+    const EnvironmentAliasEntry* column_tables = nullptr;
     /// cos theta at the `height + 1` row boundaries: cos(pi y / height), from 1 down to -1.
     const float* row_cos = nullptr;
     /// 1 / (integral of luminance over the sphere), scale not applied: the density per
@@ -303,16 +314,17 @@ public:
     /// Bytes of the sampling tables (rows, per-row conditionals, row boundaries), not the
     /// texels: what a draw reads besides one texel.
     std::size_t table_bytes() const {
-        return row_table_.size() * sizeof(AliasEntry) + column_tables_.size() * sizeof(AliasEntry) +
+        return row_table_.size() * sizeof(EnvironmentAliasEntry) +
+               column_tables_.size() * sizeof(EnvironmentAliasEntry) +
                row_cos_.size() * sizeof(float);
     }
 
     /// The texels, for copying to another memory space.
     std::span<const glm::vec3> texels() const { return texels_; }
     /// The marginal table over rows, for copying.
-    std::span<const AliasEntry> row_table() const { return row_table_; }
+    std::span<const EnvironmentAliasEntry> row_table() const { return row_table_; }
     /// The conditional tables, row after row, for copying.
-    std::span<const AliasEntry> column_tables() const { return column_tables_; }
+    std::span<const EnvironmentAliasEntry> column_tables() const { return column_tables_; }
     /// The cos theta of the row boundaries, for copying.
     std::span<const float> row_cos() const { return row_cos_; }
 
@@ -351,8 +363,47 @@ private:
                0.0722 * static_cast<double>(c.z);
     }
 
+    // Vose's O(n) construction (Vose 1991, "A linear algorithm for generating random numbers
+    // with a given distribution") in double of the table over `weights` (not negative, total
+    // > 0) into `out`: each step fills an under-full bucket from an over-full one. A zero
+    // weight gets threshold 0, so its bucket always passes to its alias and it is never drawn.
+    static void build_alias(std::span<const double> weights, EnvironmentAliasEntry* out,
+                            std::vector<double>& scaled, std::vector<std::uint32_t>& small,
+                            std::vector<std::uint32_t>& large) {
+        const std::size_t n = weights.size();
+        double total = 0.0;
+        for (double w : weights)
+            total += w;
+        scaled.resize(n);
+        small.clear();
+        large.clear();
+        std::uint32_t some_positive = 0u;
+        for (std::size_t i = 0; i < n; ++i) {
+            scaled[i] = weights[i] / total * static_cast<double>(n);
+            (scaled[i] < 1.0 ? small : large).push_back(static_cast<std::uint32_t>(i));
+            some_positive = weights[i] > 0.0 ? static_cast<std::uint32_t>(i) : some_positive;
+        }
+        while (!small.empty() && !large.empty()) {
+            const std::uint32_t under = small.back();
+            small.pop_back();
+            const std::uint32_t over = large.back();
+            out[under] = {static_cast<float>(scaled[under]), over};
+            scaled[over] -= 1.0 - scaled[under];
+            if (scaled[over] < 1.0) {
+                large.pop_back();
+                small.push_back(over);
+            }
+        }
+        // What is left is full up to rounding: keep it (a weightless one passes to a weighted).
+        for (const std::vector<std::uint32_t>* rest : {&small, &large})
+            for (std::uint32_t i : *rest)
+                out[i] = weights[i] > 0.0 ? EnvironmentAliasEntry{1.0f, i}
+                                          : EnvironmentAliasEntry{0.0f, some_positive};
+    }
+
     // Per row: the conditional table over its texels' luminance, and the row's weight
-    // (sum of luminance) times its texels' solid angle (2 pi / width)(cos top - cos bottom).
+    // (sum of luminance) times its texels' solid angle (2 pi / width)(cos top - cos bottom);
+    // then the marginal table over the rows' weights.
     void build_tables() {
         const std::size_t w = width_;
         row_cos_.resize(std::size_t{height_} + 1u);
@@ -361,9 +412,9 @@ private:
                 static_cast<float>(std::cos(std::numbers::pi * static_cast<double>(y) / height_));
         row_cos_.front() = 1.0f;
         row_cos_.back() = -1.0f;
-        column_tables_.assign(w * height_, AliasEntry{});
-        std::vector<double> row_weight(height_, 0.0);
-        std::vector<float> weights(w);
+        column_tables_.assign(w * height_, EnvironmentAliasEntry{});
+        std::vector<double> row_weight(height_, 0.0), luminance(w), scaled;
+        std::vector<std::uint32_t> small, large;
         double luminance_integral = 0.0;
         for (std::uint32_t y = 0; y < height_; ++y) {
             const double top = std::cos(std::numbers::pi * y / height_);
@@ -371,23 +422,16 @@ private:
             const double solid_angle =
                 2.0 * std::numbers::pi / static_cast<double>(w) * (top - bottom);
             const glm::vec3* row = texels_.data() + y * w;
-            double luminance_sum = 0.0, largest = 0.0;
+            double luminance_sum = 0.0;
             for (std::size_t x = 0; x < w; ++x) {
-                const double l = luminance_of(row[x]);
-                luminance_sum += l;
-                largest = l > largest ? l : largest;
+                luminance[x] = luminance_of(row[x]);
+                luminance_sum += luminance[x];
             }
-            luminance_integral += luminance_sum * solid_angle;
             row_weight[y] = luminance_sum * solid_angle;
-            if (largest > 0.0) {
-                // Relative to the row's largest luminance: in float range whatever the texels.
-                for (std::size_t x = 0; x < w; ++x)
-                    weights[x] = static_cast<float>(luminance_of(row[x]) / largest);
-                const AliasTable table(weights);
-                std::copy(table.entries().begin(), table.entries().end(),
-                          column_tables_.begin() + static_cast<std::ptrdiff_t>(y * w));
-            }
-            // A black row keeps default entries (pmf 0): the marginal never picks it.
+            luminance_integral += row_weight[y];
+            // A black row keeps its default entries: the marginal never picks it.
+            if (luminance_sum > 0.0)
+                build_alias(luminance, column_tables_.data() + y * w, scaled, small, large);
         }
         if (!(luminance_integral > 0.0))
             throw std::invalid_argument("environment map: the luminance is zero everywhere");
@@ -397,20 +441,14 @@ private:
             throw std::invalid_argument(
                 "environment map: the luminance integral is outside float range");
         inverse_luminance_integral_ = inverse;
-        double largest_row = 0.0;
-        for (double r : row_weight)
-            largest_row = r > largest_row ? r : largest_row;
-        std::vector<float> row_weights(height_);
-        for (std::uint32_t y = 0; y < height_; ++y)
-            row_weights[y] = static_cast<float>(row_weight[y] / largest_row);
-        const AliasTable rows(row_weights);
-        row_table_.assign(rows.entries().begin(), rows.entries().end());
+        row_table_.assign(height_, EnvironmentAliasEntry{});
+        build_alias(row_weight, row_table_.data(), scaled, small, large);
         radiance_integral_ = environment_radiance_integral(view());
     }
 
     std::vector<glm::vec3> texels_;
-    std::vector<AliasEntry> row_table_;
-    std::vector<AliasEntry> column_tables_;
+    std::vector<EnvironmentAliasEntry> row_table_;
+    std::vector<EnvironmentAliasEntry> column_tables_;
     std::vector<float> row_cos_;
     std::uint32_t width_ = 0u;
     std::uint32_t height_ = 0u;
