@@ -4,6 +4,7 @@
 #include <restir/bsdf/glossy_receiver.hpp>
 #include <restir/restir.hpp>
 
+#include "support/quadrature.hpp"
 #include "support/statistics.hpp"
 
 #include <gtest/gtest.h>
@@ -107,11 +108,13 @@ glm::dvec3 truth(const TwoLights& lights, const R& receiver, bool with_point, in
     return sum;
 }
 
-template <class R>
-void expect_unbiased(const TwoLights& lights, const R& receiver, restir::CandidateCounts counts,
-                     const std::string& label) {
-    const restir::UniformLightSampler sampler{2u};
-    const RectangleQuery query{&lights};
+// The mean of f(y) W over 40000 independent reservoirs of resample_lights_and_bsdf at
+// `receiver`, per channel, f shaded with `visible(sample)`, against `exact`: within 4 SE.
+template <class Lights, class Query, class R, class Visible>
+void expect_mean(const Lights& lights, const Query& query, const R& receiver,
+                 restir::CandidateCounts counts, const Visible& visible, glm::dvec3 exact,
+                 const std::string& label) {
+    const restir::UniformLightSampler sampler{lights.light_count()};
     const restir::ShadingPoint at{receiver.position, receiver.normal, 0.0f};
     RunningStats stats[3];
     constexpr std::uint32_t trials = 40000u;
@@ -121,18 +124,27 @@ void expect_unbiased(const TwoLights& lights, const R& receiver, restir::Candida
             restir::resample_lights_and_bsdf<restir::ChannelNorm::euclidean>(
                 rng, counts, sampler, at, lights, restir::Falloff::exact(), receiver, query);
         const glm::vec3 estimate =
-            r.has_sample() ? restir::unshadowed_radiance(r.sample, receiver) * r.contribution_weight
-                           : glm::vec3(0.0f);
+            r.has_sample() && visible(r.sample)
+                ? restir::unshadowed_radiance(r.sample, receiver) * r.contribution_weight
+                : glm::vec3(0.0f);
         for (int c = 0; c < 3; ++c)
             stats[c].add(static_cast<double>(estimate[c]));
     }
-    const glm::dvec3 exact = truth(lights, receiver, glm::length(lights.intensity) > 0.0f, 1024);
     for (int c = 0; c < 3; ++c) {
         EXPECT_GT(exact[c], 0.0) << label;
         EXPECT_LT(std::abs(stats[c].mean() - exact[c]), 4.0 * stats[c].standard_error())
             << label << " channel " << c << ": mean " << stats[c].mean() << " truth " << exact[c]
             << " SE " << stats[c].standard_error();
     }
+}
+
+template <class R>
+void expect_unbiased(const TwoLights& lights, const R& receiver, restir::CandidateCounts counts,
+                     const std::string& label) {
+    expect_mean(
+        lights, RectangleQuery{&lights}, receiver, counts,
+        [](const restir::LightPointSample&) { return true; },
+        truth(lights, receiver, glm::length(lights.intensity) > 0.0f, 1024), label);
 }
 
 TEST(BsdfCandidates, UnbiasedAtADiffuseReceiverForEachMixOfStrategies) {
@@ -219,19 +231,12 @@ bool rectangle_blocks(const LightsAndSky& lights, glm::vec3 origin, glm::vec3 di
 // not hide it, by the midpoint rule over (phi, cos theta) on n x n cells (d omega = d phi dz).
 template <class R>
 glm::dvec3 truth_with_sky(const LightsAndSky& lights, const R& receiver, int n) {
-    glm::dvec3 sum(0.0);
-    for (int i = 0; i < n; ++i)
-        for (int j = 0; j < n; ++j) {
-            const double z = 1.0 - 2.0 * (i + 0.5) / n;
-            const double phi = 2.0 * 3.14159265358979323846 * (j + 0.5) / n;
-            const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-            const glm::vec3 w(static_cast<float>(r * std::cos(phi)), static_cast<float>(z),
-                              static_cast<float>(r * std::sin(phi)));
-            if (!rectangle_blocks(lights, receiver.position, w))
-                sum += glm::dvec3(lights.sky(w) * receiver.reflected(w));
-        }
-    sum *= 4.0 * 3.14159265358979323846 / (static_cast<double>(n) * n);
-    return sum + truth(lights, receiver, true, 1024);
+    return truth(lights, receiver, true, 1024) +
+           restir::test::integrate_over_sphere<glm::dvec3>(n, [&](glm::vec3 w) {
+               return rectangle_blocks(lights, receiver.position, w)
+                          ? glm::dvec3(0.0)
+                          : glm::dvec3(lights.sky(w) * receiver.reflected(w));
+           });
 }
 
 // Light and BSDF candidates over the rectangle, the point light and the sky, shaded with the
@@ -240,30 +245,12 @@ glm::dvec3 truth_with_sky(const LightsAndSky& lights, const R& receiver, int n) 
 template <class R>
 void expect_unbiased_with_sky(const LightsAndSky& lights, const R& receiver,
                               restir::CandidateCounts counts, const std::string& label) {
-    const restir::UniformLightSampler sampler{3u};
-    const RectangleOrSkyQuery query{&lights};
-    const restir::ShadingPoint at{receiver.position, receiver.normal, 0.0f};
-    RunningStats stats[3];
-    constexpr std::uint32_t trials = 40000u;
-    for (std::uint32_t t = 0; t < trials; ++t) {
-        restir::Pcg32 rng = restir::make_pixel_rng(t, 0u, 0u, 11u);
-        const restir::Reservoir<restir::LightPointSample> r =
-            restir::resample_lights_and_bsdf<restir::ChannelNorm::euclidean>(
-                rng, counts, sampler, at, lights, restir::Falloff::exact(), receiver, query);
-        const bool visible = !r.sample.is_distant() ||
-                             !rectangle_blocks(lights, receiver.position, r.sample.position);
-        const glm::vec3 estimate =
-            r.has_sample() && visible
-                ? restir::unshadowed_radiance(r.sample, receiver) * r.contribution_weight
-                : glm::vec3(0.0f);
-        for (int c = 0; c < 3; ++c)
-            stats[c].add(static_cast<double>(estimate[c]));
-    }
-    const glm::dvec3 exact = truth_with_sky(lights, receiver, 1024);
-    for (int c = 0; c < 3; ++c)
-        EXPECT_LT(std::abs(stats[c].mean() - exact[c]), 4.0 * stats[c].standard_error())
-            << label << " channel " << c << ": mean " << stats[c].mean() << " truth " << exact[c]
-            << " SE " << stats[c].standard_error();
+    expect_mean(
+        lights, RectangleOrSkyQuery{&lights}, receiver, counts,
+        [&](const restir::LightPointSample& s) {
+            return !s.is_distant() || !rectangle_blocks(lights, receiver.position, s.position);
+        },
+        truth_with_sky(lights, receiver, 1024), label);
 }
 
 TEST(BsdfCandidates, UnbiasedWithASkyBesideAreaAndPointLights) {

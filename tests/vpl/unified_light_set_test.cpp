@@ -1,6 +1,7 @@
 // Emitters and VPLs in one light set: ids, powers, and RIS over both at once.
 #include <restir/restir.hpp>
 
+#include "support/quadrature.hpp"
 #include "support/statistics.hpp"
 #include "vpl/box_scene.hpp"
 
@@ -73,16 +74,10 @@ TEST(UnifiedLightSet, RisOverEmittersAndVplsIsUnbiased) {
     double truth = 0.0;
     for (std::uint32_t id = 2u; id < lights.light_count(); ++id)
         truth += static_cast<double>(irradiance({id, glm::vec2(0.5f)}));
-    constexpr int grid = 1000;
-    for (std::uint32_t id = 0; id < 2u; ++id) {
-        double sum = 0.0;
-        for (int i = 0; i < grid; ++i)
-            for (int j = 0; j < grid; ++j)
-                sum += static_cast<double>(
-                    irradiance({id, glm::vec2((static_cast<float>(i) + 0.5f) / grid,
-                                              (static_cast<float>(j) + 0.5f) / grid)}));
-        truth += sum / (grid * grid);
-    }
+    for (std::uint32_t id = 0; id < 2u; ++id)
+        truth += restir::test::mean_over_unit_square<double>(1000, [&](glm::vec2 uv) {
+            return static_cast<double>(irradiance({id, uv}));
+        });
 
     restir::test::RunningStats estimate;
     for (std::uint32_t trial = 0; trial < 40'000u; ++trial) {
@@ -159,30 +154,16 @@ TEST(UnifiedLightSet, RisOverEmittersAndTheSkyIsUnbiased) {
                                                          receiver, normal, restir::Falloff{}));
     };
     double truth = 0.0;
-    constexpr int grid = 1000;
-    for (std::uint32_t id = 0; id < 2u; ++id) {
-        double sum = 0.0;
-        for (int i = 0; i < grid; ++i)
-            for (int j = 0; j < grid; ++j)
-                sum += static_cast<double>(
-                    irradiance({id, glm::vec2((static_cast<float>(i) + 0.5f) / grid,
-                                              (static_cast<float>(j) + 0.5f) / grid)}));
-        truth += sum / (static_cast<double>(grid) * grid);
-    }
-    // The sky: L cos over (phi, cos theta) cells (d omega = d phi d cos theta).
+    for (std::uint32_t id = 0; id < 2u; ++id)
+        truth += restir::test::mean_over_unit_square<double>(1000, [&](glm::vec2 uv) {
+            return static_cast<double>(irradiance({id, uv}));
+        });
+    // The sky: L cos over the sphere.
     const restir::EnvironmentMapView view = sky.view();
-    double sky_part = 0.0;
-    for (int i = 0; i < grid; ++i)
-        for (int j = 0; j < grid; ++j) {
-            const double z = 1.0 - 2.0 * (i + 0.5) / grid;
-            const double phi = 2.0 * 3.14159265358979323846 * (j + 0.5) / grid;
-            const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-            const glm::vec3 w(static_cast<float>(r * std::cos(phi)), static_cast<float>(z),
-                              static_cast<float>(r * std::sin(phi)));
-            sky_part += static_cast<double>(channel_sum(view.radiance(w))) *
-                        std::max(0.0, static_cast<double>(glm::dot(normal, w)));
-        }
-    truth += sky_part * 4.0 * 3.14159265358979323846 / (static_cast<double>(grid) * grid);
+    truth += restir::test::integrate_over_sphere<double>(1000, [&](glm::vec3 w) {
+        return static_cast<double>(channel_sum(view.radiance(w))) *
+               std::max(0.0, static_cast<double>(glm::dot(normal, w)));
+    });
 
     restir::test::RunningStats stats;
     for (std::uint32_t trial = 0; trial < 20000u; ++trial) {
