@@ -88,28 +88,10 @@ void BM_LightBvh_Build(benchmark::State& state) {
 }
 BENCHMARK(BM_LightBvh_Build)->Arg(1000)->Arg(1 << 20)->Unit(benchmark::kMillisecond);
 
-void BM_LightBvh_Sample(benchmark::State& state) {
-    const restir::LightBvhView view = bvh(static_cast<std::uint32_t>(state.range(0))).view();
-    restir::Pcg32 rng = restir::make_pixel_rng(1u, 0u, 0u, 1u);
-    std::uint32_t i = 0u, found = 0u;
-    for (auto _ : state) {
-        const restir::DiscreteSample s = restir::sample_light(view, floor_point(i++), rng);
-        found += s.pmf > 0.0f ? 1u : 0u;
-        benchmark::DoNotOptimize(s);
-    }
-    state.SetItemsProcessed(state.iterations());
-    state.counters["found"] = static_cast<double>(found) / static_cast<double>(state.iterations());
-}
-BENCHMARK(BM_LightBvh_Sample)->Arg(1000)->Arg(1 << 20);
-
-// `BM_LightBvh_Sample` with one distant light beside the tree, in the middle of the id space
-// (`WithDistantLights`, sampling/infinite_lights.hpp), chosen with probability
-// state.range(1) / 100: at 0 every draw descends the tree, which shows the wrapper's own cost
-// (the split of u0 and the id mapping); at 10, one draw in ten takes the distant light.
-void BM_LightBvh_SampleWithDistant(benchmark::State& state) {
-    const auto count = static_cast<std::uint32_t>(state.range(0));
-    const auto sampler = restir::with_distant_lights(bvh(count).view(), count / 2u, 1u,
-                                                     static_cast<float>(state.range(1)) / 100.0f);
+// Draws from `sampler` at points along the floor, one per iteration; `found` counts the draws
+// that found a light.
+template <class Sampler>
+void time_draws(benchmark::State& state, const Sampler& sampler) {
     restir::Pcg32 rng = restir::make_pixel_rng(1u, 0u, 0u, 1u);
     std::uint32_t i = 0u, found = 0u;
     for (auto _ : state) {
@@ -119,6 +101,21 @@ void BM_LightBvh_SampleWithDistant(benchmark::State& state) {
     }
     state.SetItemsProcessed(state.iterations());
     state.counters["found"] = static_cast<double>(found) / static_cast<double>(state.iterations());
+}
+
+void BM_LightBvh_Sample(benchmark::State& state) {
+    time_draws(state, bvh(static_cast<std::uint32_t>(state.range(0))).view());
+}
+BENCHMARK(BM_LightBvh_Sample)->Arg(1000)->Arg(1 << 20);
+
+// `BM_LightBvh_Sample` with one distant light beside the tree, in the middle of the id space
+// (`WithDistantLights`, sampling/infinite_lights.hpp), chosen with probability
+// state.range(1) / 100: at 0 every draw descends the tree, which shows the wrapper's own cost
+// (the split of u0 and the id mapping); at 10, one draw in ten takes the distant light.
+void BM_LightBvh_SampleWithDistant(benchmark::State& state) {
+    const auto count = static_cast<std::uint32_t>(state.range(0));
+    time_draws(state, restir::with_distant_lights(bvh(count).view(), count / 2u, 1u,
+                                                  static_cast<float>(state.range(1)) / 100.0f));
 }
 BENCHMARK(BM_LightBvh_SampleWithDistant)->Args({1000, 0})->Args({1 << 20, 0})->Args({1 << 20, 10});
 

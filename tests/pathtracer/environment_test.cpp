@@ -9,6 +9,7 @@
 #include "scene.hpp"
 #include "scene_quad.hpp"
 
+#include "pathtracer/directional_albedo.hpp"
 #include "support/statistics.hpp"
 
 #include <glm/geometric.hpp>
@@ -208,25 +209,15 @@ TEST(Environment, ReferenceReadsTheDirectionalAlbedoOfGlossyPlanesUnderAUniformS
     const glm::vec3 eye{0.0f, 1.0f, 2.0f}, seen{0.0f, 0.0f, 0.0f}, normal{0.0f, 1.0f, 0.0f};
     const glm::vec3 wo = glm::normalize(eye - seen);
     for (const pt::Material& material : materials) {
-        restir::test::RunningStats albedo[3], radiance[3];
-        restir::Pcg32 rng = restir::make_pixel_rng(0u, 0u, 0u, 9u);
-        for (int i = 0; i < 1 << 21; ++i) {
-            const float u_lobe = next_float(rng), u0 = next_float(rng), u1 = next_float(rng);
-            const restir::BsdfSample b = material.bsdf().sample(normal, wo, u_lobe, u0, u1);
-            for (int c = 0; c < 3; ++c)
-                albedo[c].add(b.pdf > 0.0f ? static_cast<double>(b.weight[c]) : 0.0);
-        }
+        const pt::test::ChannelStats albedo = pt::test::directional_albedo(
+            material.bsdf(), normal, wo, 1 << 21, restir::make_pixel_rng(0u, 0u, 0u, 9u));
         pt::Scene scene = plane_under(map_of({glm::vec3(1.0f)}, 1, 1, "white"), material);
         scene.camera = pt::CameraSetup{eye, seen, {0.0f, 1.0f, 0.0f}, 30.0f};
         pt::RenderSettings s = reference_settings(scene, 1);
         s.gi = GlobalIllumination::none;
         s.spp = 64;
         pt::Renderer renderer(scene, s);
-        for (int frame = 0; frame < 400; ++frame) {
-            renderer.render_frame();
-            for (int c = 0; c < 3; ++c)
-                radiance[c].add(static_cast<double>(renderer.last_frame().pixels[0][c]));
-        }
+        const pt::test::ChannelStats radiance = pt::test::pixel_radiance(renderer, 400);
         for (int c = 0; c < 3; ++c) {
             const double error = std::abs(radiance[c].mean() - albedo[c].mean());
             const double se = std::hypot(radiance[c].standard_error(), albedo[c].standard_error());

@@ -7,6 +7,7 @@
 #include "renderer.hpp"
 #include "scene.hpp"
 
+#include "pathtracer/directional_albedo.hpp"
 #include "support/statistics.hpp"
 
 #include <glm/geometric.hpp>
@@ -181,15 +182,10 @@ TEST(Renderer, ReferenceMatchesTheGlossyFurnacesDirectionalAlbedo) {
     for (pt::Material walls : materials) {
         walls.emission = glm::vec3(1.0f);
         const restir::GlossyBsdf bsdf = walls.bsdf();
-        restir::test::RunningStats albedo[3], radiance[3];
         restir::Pcg32 rng;
         rng.seed(7u, 11u);
-        for (int i = 0; i < 1 << 22; ++i) {
-            const float u_lobe = next_float(rng), u0 = next_float(rng), u1 = next_float(rng);
-            const restir::BsdfSample b = bsdf.sample(normal, wo, u_lobe, u0, u1);
-            for (int c = 0; c < 3; ++c)
-                albedo[c].add(b.pdf > 0.0f ? static_cast<double>(b.weight[c]) : 0.0);
-        }
+        const pt::test::ChannelStats albedo =
+            pt::test::directional_albedo(bsdf, normal, wo, 1 << 22, rng);
         pt::Scene scene = furnace_of(walls);
         scene.camera = pt::CameraSetup{eye, seen, {0.0f, 1.0f, 0.0f}, 30.0f};
         pt::RenderSettings s = tiny(scene, 1);
@@ -197,11 +193,7 @@ TEST(Renderer, ReferenceMatchesTheGlossyFurnacesDirectionalAlbedo) {
         s.gi = GlobalIllumination::none;
         s.spp = 64;
         pt::Renderer renderer(scene, s);
-        for (int frame = 0; frame < 400; ++frame) {
-            renderer.render_frame();
-            for (int c = 0; c < 3; ++c)
-                radiance[c].add(static_cast<double>(renderer.last_frame().pixels[0][c]));
-        }
+        const pt::test::ChannelStats radiance = pt::test::pixel_radiance(renderer, 400);
         for (int c = 0; c < 3; ++c) {
             const double error = std::abs(radiance[c].mean() - (1.0 + albedo[c].mean()));
             const double se = std::hypot(radiance[c].standard_error(), albedo[c].standard_error());
