@@ -109,3 +109,27 @@ TEST(SkySampling, EveryUnbiasedModeAgreesWithTheReference) {
 }
 
 } // namespace
+
+namespace {
+
+// With the panels dark, the sky alone lights the courtyard: the renderer takes a scene with no
+// emitter, and the photons of --gi vpl leave the sky, so its light bounces through VPLs.
+TEST(SkySampling, TheSkyAloneLightsTheSceneAndShootsPhotons) {
+    pt::Scene scene = sun_sky();
+    for (pt::Material& m : scene.materials)
+        m.emission = glm::vec3(0.0f);
+    pt::RenderSettings s = small(scene);
+    s.method = Method::restir;
+    s.gi = GlobalIllumination::vpl;
+    s.vpls = 2000;
+    pt::Renderer renderer(scene, s);
+    EXPECT_GT(renderer.vpl_count(), 500u);
+    EXPECT_EQ(renderer.emitter_count(), 0u);
+    renderer.render_frame();
+    double sum = 0.0;
+    for (const glm::vec3& p : renderer.accumulated().pixels)
+        sum += static_cast<double>(p.x + p.y + p.z);
+    EXPECT_GT(sum, 0.0);
+}
+
+} // namespace
