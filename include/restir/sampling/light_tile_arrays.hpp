@@ -38,13 +38,24 @@ enum class TilePlane : std::uint32_t {
     radiance_g,
     radiance_b,
     yuksel_radius_squared, ///< r^2 of Yuksel's falloff for delta lights, else 0.
-    min_distance_squared,  ///< d_min^2 of the clamped falloff for delta lights, else 0.
-    inverse_pdf,           ///< 1 / p of the entry's source density (0 if p = 0).
-    positional, ///< 1 for a point, 0 for a distant light's direction (`LightPointSample`).
+    /// d_min^2 of the clamped falloff for delta lights, 0 for area lights, and -1 for a distant
+    /// light's direction (`LightPointSample::positional` 0: the receiver's position is not
+    /// subtracted from it), which needs no plane of its own.
+    min_distance_squared,
+    inverse_pdf, ///< 1 / p of the entry's source density (0 if p = 0).
     count
 };
 
 inline constexpr std::uint32_t tile_plane_count = static_cast<std::uint32_t>(TilePlane::count);
+
+namespace detail {
+/// `LightPointSample::positional` of a tile entry from its min_distance_squared plane: 0 for a
+/// distant light's direction (stored as -1), 1 for a point.
+RESTIR_HOST_DEVICE constexpr float tile_positional(float min_distance_squared) noexcept {
+    return min_distance_squared < 0.0f ? 0.0f : 1.0f;
+}
+
+} // namespace detail
 
 /// Entries are stored in groups of this many consecutive ones; a batch-RIS block covers whole
 /// groups.
@@ -54,7 +65,7 @@ inline constexpr std::uint32_t tile_group_size = 8u;
 /// planes of floats in groups ("array of structures of arrays"): the entries are cut into
 /// groups of `tile_group_size` consecutive ones, and group g keeps its planes one after the
 /// other, plane k of it at floats [(g * tile_plane_count + k) * tile_group_size, ... +
-/// tile_group_size) of `planes`. A group is 448 contiguous bytes, so a block of candidates reads
+/// tile_group_size) of `planes`. A group is 416 contiguous bytes, so a block of candidates reads
 /// neighbouring cache lines rather than one line in each of 13 distant arrays. `references`
 /// holds the entries' light references in entry order. A view over the caller's memory
 /// (device memory for a kernel, `planes` 16-byte aligned: device code reads it in 16-byte
@@ -103,8 +114,9 @@ struct LightTileArrays {
         s.intensity = {get(TilePlane::radiance_r), get(TilePlane::radiance_g),
                        get(TilePlane::radiance_b)};
         const float radius2 = get(TilePlane::yuksel_radius_squared);
-        s.falloff = radius2 > 0.0f ? radius2 : -get(TilePlane::min_distance_squared);
-        s.positional = get(TilePlane::positional);
+        const float min_distance2 = get(TilePlane::min_distance_squared);
+        s.falloff = radius2 > 0.0f ? radius2 : -max_of(min_distance2, 0.0f);
+        s.positional = detail::tile_positional(min_distance2);
         return s;
     }
 
@@ -129,9 +141,8 @@ struct LightTileArrays {
         put(TilePlane::radiance_g, usable ? s.intensity.y : 0.0f);
         put(TilePlane::radiance_b, usable ? s.intensity.z : 0.0f);
         put(TilePlane::yuksel_radius_squared, max_of(s.falloff, 0.0f));
-        put(TilePlane::min_distance_squared, max_of(-s.falloff, 0.0f));
+        put(TilePlane::min_distance_squared, s.is_distant() ? -1.0f : max_of(-s.falloff, 0.0f));
         put(TilePlane::inverse_pdf, usable ? 1.0f / entry.pdf : 0.0f);
-        put(TilePlane::positional, s.positional);
         references[global] = entry.reference;
     }
 };
@@ -142,8 +153,8 @@ template <ChannelNorm Norm, class Value>
 RESTIR_HOST_DEVICE float tile_entry_target(const Value& value, glm::vec3 position, glm::vec3 normal,
                                            glm::vec3 channel_weights) {
     // x = position - positional * receiver: a distant light's direction is the same from
-    // every receiver.
-    const float positional = value(TilePlane::positional);
+    // every receiver. A negative min_distance_squared (a distant light's) clamps nothing.
+    const float positional = tile_positional(value(TilePlane::min_distance_squared));
     const float factor = folded_irradiance_factor(
         value(TilePlane::position_x) - positional * position.x,
         value(TilePlane::position_y) - positional * position.y,
@@ -161,7 +172,7 @@ RESTIR_HOST_DEVICE float tile_entry_target(const Value& value, glm::vec3 positio
 template <ChannelNorm Norm, class Value, class R>
 RESTIR_HOST_DEVICE float tile_entry_radiance_target(const Value& value, glm::vec3 position,
                                                     const R& receiver) {
-    const float positional = value(TilePlane::positional);
+    const float positional = tile_positional(value(TilePlane::min_distance_squared));
     const float x = value(TilePlane::position_x) - positional * position.x;
     const float y = value(TilePlane::position_y) - positional * position.y;
     const float z = value(TilePlane::position_z) - positional * position.z;
@@ -199,7 +210,7 @@ evaluate_tile_block_with(const LightTileArrays& tiles, std::uint32_t tile, std::
             tiles.group_plane(std::uint64_t{base} + group * lanes, TilePlane::position_x);
 #if defined(__CUDA_ARCH__)
         // Four lanes at a time, each plane's four values in one 16-byte load through the
-        // read-only cache: a thread reads its block's 448 bytes once. (With 4-byte loads a
+        // read-only cache: a thread reads its block's 416 bytes once. (With 4-byte loads a
         // 32-byte sector of 8 lanes may be fetched from L2 once per lane, since L1 cannot hold
         // every thread's block; docs/performance.md, "GPU".)
         RESTIR_ASSERT(reinterpret_cast<std::uintptr_t>(planes) % 16u == 0u);
