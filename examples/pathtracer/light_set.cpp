@@ -114,6 +114,8 @@ float LightSet::environment_weight() const {
     for (const float p : restir::unified_light_powers(lights_, power))
         others += static_cast<double>(p);
     others -= static_cast<double>(power);
+    if (!(others > 0.0)) // the environment alone: every candidate is its
+        return power;
     const auto s = static_cast<double>(share);
     return static_cast<float>(others * s / (1.0 - s));
 }

@@ -63,6 +63,7 @@ struct SkySetup {
     pt::EnvironmentSampling sampling = pt::EnvironmentSampling::importance;
     pt::CandidateSource source = pt::CandidateSource::power;
     bool packed_history = false;
+    float environment_share = 0.0f;
 };
 
 TEST(SkySampling, EveryUnbiasedModeAgreesWithTheReference) {
@@ -82,6 +83,8 @@ TEST(SkySampling, EveryUnbiasedModeAgreesWithTheReference) {
          pt::EnvironmentSampling::importance, pt::CandidateSource::bvh},
         {"restir pairwise, grid", Method::restir, restir::BiasCorrection::pairwise, 0u,
          pt::EnvironmentSampling::importance, pt::CandidateSource::grid},
+        {"ris, environment share 0.1", Method::ris, restir::BiasCorrection::pairwise, 0u,
+         pt::EnvironmentSampling::importance, pt::CandidateSource::power, false, 0.1f},
     };
     constexpr std::uint64_t seeds = 6;
     std::vector<restir::test::RunningStats> stats(setups.size());
@@ -96,6 +99,7 @@ TEST(SkySampling, EveryUnbiasedModeAgreesWithTheReference) {
             s.environment_sampling = setups[k].sampling;
             s.source = setups[k].source;
             s.packed_history = setups[k].packed_history;
+            s.environment_share = setups[k].environment_share;
             s.seed = seed;
             stats[k].add(brightness(scene, s, 4));
         }
