@@ -384,6 +384,11 @@ TEST(Cli, BadEnvironmentMapsAreOneLineErrors) {
                               "--env-scale");
     expect_one_line_error(small("--scene sun-sky --env-rotate nan"), "--env-rotate");
     expect_one_line_error(small("--scene sun-sky --env-scale 1e30"), "1e30");
+    for (const char* value : {"-0.1", "1", "nan"})
+        expect_one_line_error(small(std::string("--scene sun-sky --env-share ") + value),
+                              "--env-share");
+    expect_one_line_error(small("--scene sun-sky --env-sampling cosine"), "--env-sampling");
+    expect_one_line_error(small("--scene sun-sky --env-sampling bsdf"), "--bsdf-candidates");
 }
 
 // A 1 x 1 map is a constant sky: the box renders under it, and the pixels that see out of the
