@@ -154,7 +154,8 @@ inline World make_sky_world() {
         restir::GlossyReceiver receiver{
             position, {0.0f, 0.0f, 1.0f}, glm::normalize(camera - position), {}};
         receiver.bsdf = restir::GlossyBsdf::from_metallic_roughness(
-            {0.8f, 0.6f, 0.4f}, s / width == 2u ? 1.0f : 0.0f, 0.05f + 0.19f * (s % width));
+            {0.8f, 0.6f, 0.4f}, s / width == 2u ? 1.0f : 0.0f,
+            0.05f + 0.19f * static_cast<float>(s % width));
         for (std::uint32_t l = 8; l < light_count; ++l) {
             const std::uint32_t h = hash(l, 91u);
             restir::LightSample sky;
