@@ -8,7 +8,6 @@
 
 #include <restir/restir.hpp>
 
-
 namespace pt::test {
 
 /// Statistics of each colour channel, indexed 0 to 2.
