@@ -10,6 +10,7 @@
 #include "restir/bsdf/glossy_receiver.hpp"
 #include "restir/bsdf/shading_frame.hpp"
 #include "restir/concepts.hpp"
+#include "restir/core/alias_buckets.hpp"
 #include "restir/core/channels.hpp"
 #include "restir/core/discrete_sample.hpp"
 #include "restir/core/math.hpp"

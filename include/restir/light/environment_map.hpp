@@ -3,13 +3,13 @@
 /// looked up piecewise constant and importance-sampled in O(1) in proportion to luminance times
 /// solid angle (a marginal alias table over rows, a conditional one per row; the 2D
 /// piecewise-constant construction of Pharr, Jakob and Humphreys, "Physically Based Rendering",
-/// 3rd ed., section 13.6.7, with Walker's alias tables (Vose's construction) in place of CDF
-/// inversion). The tables have their own 8-byte entry: a draw reads no pmf (the density is the
-/// texel's luminance over the map's integral), and light/ cannot include sampling/, which
-/// includes light/.
+/// 3rd ed., section 13.6.7, with Walker's alias tables (Vose's construction,
+/// core/alias_buckets.hpp) in place of CDF inversion). The tables have their own 8-byte entry: a
+/// draw reads no pmf (the density is the texel's luminance over the map's integral).
 #pragma once
 
 #include "restir/config.hpp"
+#include "restir/core/alias_buckets.hpp"
 #include "restir/core/math.hpp"
 
 #include <glm/vec2.hpp>
@@ -363,42 +363,16 @@ private:
                0.0722 * static_cast<double>(c.z);
     }
 
-    // Vose's O(n) construction (Vose 1991, "A linear algorithm for generating random numbers
-    // with a given distribution") in double of the table over `weights` (not negative, total
-    // > 0) into `out`: each step fills an under-full bucket from an over-full one. A zero
-    // weight gets threshold 0, so its bucket always passes to its alias and it is never drawn.
+    // The alias buckets of `weights` (total > 0) into `out` (`build_alias_buckets`).
     static void build_alias(std::span<const double> weights, EnvironmentAliasEntry* out,
-                            std::vector<double>& scaled, std::vector<std::uint32_t>& small,
-                            std::vector<std::uint32_t>& large) {
-        const std::size_t n = weights.size();
+                            AliasScratch& scratch) {
         double total = 0.0;
-        for (double w : weights)
+        for (const double w : weights)
             total += w;
-        scaled.resize(n);
-        small.clear();
-        large.clear();
-        std::uint32_t some_positive = 0u;
-        for (std::size_t i = 0; i < n; ++i) {
-            scaled[i] = weights[i] / total * static_cast<double>(n);
-            (scaled[i] < 1.0 ? small : large).push_back(static_cast<std::uint32_t>(i));
-            some_positive = weights[i] > 0.0 ? static_cast<std::uint32_t>(i) : some_positive;
-        }
-        while (!small.empty() && !large.empty()) {
-            const std::uint32_t under = small.back();
-            small.pop_back();
-            const std::uint32_t over = large.back();
-            out[under] = {static_cast<float>(scaled[under]), over};
-            scaled[over] -= 1.0 - scaled[under];
-            if (scaled[over] < 1.0) {
-                large.pop_back();
-                small.push_back(over);
-            }
-        }
-        // What is left is full up to rounding: keep it (a weightless one passes to a weighted).
-        for (const std::vector<std::uint32_t>* rest : {&small, &large})
-            for (std::uint32_t i : *rest)
-                out[i] = weights[i] > 0.0 ? EnvironmentAliasEntry{1.0f, i}
-                                          : EnvironmentAliasEntry{0.0f, some_positive};
+        build_alias_buckets(weights, total, scratch,
+                            [out](std::uint32_t i, float threshold, std::uint32_t alias) {
+                                out[i] = {threshold, alias};
+                            });
     }
 
     // Per row: the conditional table over its texels' luminance, and the row's weight
@@ -413,8 +387,8 @@ private:
         row_cos_.front() = 1.0f;
         row_cos_.back() = -1.0f;
         column_tables_.assign(w * height_, EnvironmentAliasEntry{});
-        std::vector<double> row_weight(height_, 0.0), luminance(w), scaled;
-        std::vector<std::uint32_t> small, large;
+        std::vector<double> row_weight(height_, 0.0), luminance(w);
+        AliasScratch scratch;
         double luminance_integral = 0.0;
         for (std::uint32_t y = 0; y < height_; ++y) {
             const double top = std::cos(std::numbers::pi * y / height_);
@@ -431,7 +405,7 @@ private:
             luminance_integral += row_weight[y];
             // A black row keeps its default entries: the marginal never picks it.
             if (luminance_sum > 0.0)
-                build_alias(luminance, column_tables_.data() + y * w, scaled, small, large);
+                build_alias(luminance, column_tables_.data() + y * w, scratch);
         }
         if (!(luminance_integral > 0.0))
             throw std::invalid_argument("environment map: the luminance is zero everywhere");
@@ -442,7 +416,7 @@ private:
                 "environment map: the luminance integral is outside float range");
         inverse_luminance_integral_ = inverse;
         row_table_.assign(height_, EnvironmentAliasEntry{});
-        build_alias(row_weight, row_table_.data(), scaled, small, large);
+        build_alias(row_weight, row_table_.data(), scratch);
         radiance_integral_ = environment_radiance_integral(view());
     }
 

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "restir/config.hpp"
+#include "restir/core/alias_buckets.hpp"
 #include "restir/core/discrete_sample.hpp"
 #include "restir/core/math.hpp"
 #include "restir/sampling/alias_table_view.hpp"
@@ -46,34 +47,14 @@ public:
 
         const std::size_t n = weights.size();
         entries_.assign(n, AliasEntry{});
-        std::vector<double> scaled(n);
-        std::vector<std::uint32_t> small, large;
-        small.reserve(n);
-        large.reserve(n);
-        for (std::size_t i = 0; i < n; ++i) {
-            const double weight = static_cast<double>(weights[i]);
-            entries_[i].pmf = static_cast<float>(weight / total);
-            scaled[i] = weight * static_cast<double>(n) / total;
-            (scaled[i] < 1.0 ? small : large).push_back(static_cast<std::uint32_t>(i));
-        }
-        // Each step fills one under-full bucket from an over-full one.
-        while (!small.empty() && !large.empty()) {
-            const std::uint32_t under = small.back();
-            small.pop_back();
-            const std::uint32_t over = large.back();
-            entries_[under].threshold = static_cast<float>(scaled[under]);
-            entries_[under].alias = over;
-            scaled[over] -= 1.0 - scaled[under];
-            if (scaled[over] < 1.0) {
-                large.pop_back();
-                small.push_back(over);
-            }
-        }
-        // What is left is full up to rounding: keep it.
-        for (std::uint32_t i : large)
-            entries_[i] = {1.0f, i, entries_[i].pmf};
-        for (std::uint32_t i : small)
-            entries_[i] = {1.0f, i, entries_[i].pmf};
+        for (std::size_t i = 0; i < n; ++i)
+            entries_[i].pmf = static_cast<float>(static_cast<double>(weights[i]) / total);
+        AliasScratch scratch;
+        build_alias_buckets(weights, total, scratch,
+                            [&](std::uint32_t i, float threshold, std::uint32_t alias) {
+                                entries_[i].threshold = threshold;
+                                entries_[i].alias = alias;
+                            });
         for (AliasEntry& entry : entries_)
             entry.alias_pmf = entries_[entry.alias].pmf;
     }
