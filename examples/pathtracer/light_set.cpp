@@ -82,7 +82,7 @@ std::vector<restir::Vpl> LightSet::shoot_photons(const restir::PhotonParams& par
     restir::PhotonEmitters sources(emitters_, params.points_per_emitter, params.seed);
     if (scene_.environment) { // the sky's photons, in proportion to its flux into the scene
         const BoundingSphere sphere = bounding_sphere(scene_);
-        sources.set_environment(scene_.environment->view(), sphere.centre, sphere.radius);
+        sources.set_environment(scene_.environment->map, sphere.centre, sphere.radius);
     }
     return restir::shoot_photons(sources, rays_, scatter, params, parallel_for);
 }

@@ -341,7 +341,7 @@ TEST(SkyPhotons, FloorReflectsTheSkysIrradiance) {
         const restir::EnvironmentMap sky(c.texels, c.width, c.height, c.scale, c.rotation);
         const std::array<RunningStats, 3> stats =
             first_bounce_flux(RectangleLights{}, floor, run, [&](restir::PhotonEmitters& e) {
-                e.set_environment(sky.view(), glm::vec3(0.0f), floor.radius());
+                e.set_environment(sky, glm::vec3(0.0f), floor.radius());
                 ASSERT_EQ(e.sky_probability(), 1.0f) << "no emitters: every photon from the sky";
             });
         const glm::dvec3 irradiance =
@@ -372,7 +372,7 @@ TEST(SkyPhotons, SkyAndEmitterKeepBothExpectations) {
         float used = 0.0f;
         const std::array<RunningStats, 3> stats =
             first_bounce_flux(lights, floor, run, [&](restir::PhotonEmitters& e) {
-                e.set_environment(sky.view(), glm::vec3(0.0f), floor.radius(), probability);
+                e.set_environment(sky, glm::vec3(0.0f), floor.radius(), probability);
                 used = e.sky_probability();
             });
         if (!probability) {
@@ -411,7 +411,7 @@ TEST(SkyPhotons, NoSkyLeavesTheEmittersUnchanged) {
     const restir::EnvironmentMap sky(std::vector<glm::vec3>(8u, glm::vec3(1.0f)), 4u, 2u);
     restir::PhotonEmitters plain(lights, params.points_per_emitter, params.seed);
     restir::PhotonEmitters zero_sky(lights, params.points_per_emitter, params.seed);
-    zero_sky.set_environment(sky.view(), glm::vec3(0.0f), 2.0f, 0.0f);
+    zero_sky.set_environment(sky, glm::vec3(0.0f), 2.0f, 0.0f);
     for (const restir::PhotonEmitters* emitters : {&plain, &zero_sky}) {
         const std::vector<Vpl> vpls =
             restir::shoot_photons(*emitters, ClosedBox{}, Lambertian{}, params);
@@ -429,14 +429,14 @@ TEST(SkyPhotons, BadSkySettingsThrow) {
     restir::PhotonEmitters emitters(box_light(), 4u, 0u);
     const glm::vec3 origin(0.0f);
     const float nan = std::nanf("");
-    EXPECT_THROW(emitters.set_environment(restir::EnvironmentMapView{}, origin, 1.0f),
+    EXPECT_THROW(emitters.set_environment(restir::EnvironmentMap{}, origin, 1.0f),
                  std::invalid_argument);
-    EXPECT_THROW(emitters.set_environment(sky.view(), origin, 0.0f), std::invalid_argument);
-    EXPECT_THROW(emitters.set_environment(sky.view(), origin, nan), std::invalid_argument);
-    EXPECT_THROW(emitters.set_environment(sky.view(), glm::vec3(nan), 1.0f), std::invalid_argument);
-    EXPECT_THROW(emitters.set_environment(sky.view(), origin, 1.0f, 1.5f), std::invalid_argument);
-    EXPECT_THROW(emitters.set_environment(sky.view(), origin, 1.0f, -0.1f), std::invalid_argument);
-    EXPECT_THROW(emitters.set_environment(sky.view(), origin, 1.0f, nan), std::invalid_argument);
+    EXPECT_THROW(emitters.set_environment(sky, origin, 0.0f), std::invalid_argument);
+    EXPECT_THROW(emitters.set_environment(sky, origin, nan), std::invalid_argument);
+    EXPECT_THROW(emitters.set_environment(sky, glm::vec3(nan), 1.0f), std::invalid_argument);
+    EXPECT_THROW(emitters.set_environment(sky, origin, 1.0f, 1.5f), std::invalid_argument);
+    EXPECT_THROW(emitters.set_environment(sky, origin, 1.0f, -0.1f), std::invalid_argument);
+    EXPECT_THROW(emitters.set_environment(sky, origin, 1.0f, nan), std::invalid_argument);
     EXPECT_FALSE(emitters.source().has_sky());
 }
 

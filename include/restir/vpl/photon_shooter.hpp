@@ -10,6 +10,7 @@
 #include "restir/config.hpp"
 #include "restir/core/math.hpp"
 #include "restir/core/rng.hpp"
+#include "restir/light/environment_light.hpp"
 #include "restir/light/environment_map.hpp"
 #include "restir/sampling/alias_table.hpp"
 #include "restir/sampling/diffuse_direction.hpp"
@@ -24,7 +25,6 @@
 #include <cmath>
 #include <concepts>
 #include <cstdint>
-#include <numbers>
 #include <optional>
 #include <stdexcept>
 #include <type_traits>
@@ -245,16 +245,16 @@ public:
         table_.build(power);
     }
 
-    /// Adds the sky `environment` (a view of an `EnvironmentMap` that must outlive the shooting)
-    /// as a photon source, with the sphere (`scene_centre`, `scene_radius`) that holds the
-    /// scene's geometry. A photon comes from the sky with probability `sky_probability`; by
-    /// default in proportion to flux: the sky sends pi R^2 * radiance_integral (summed over the
-    /// channels) into the sphere, against the emitter points' total flux (1 without emitters).
-    /// Throws std::invalid_argument for an empty map, a centre or radius that is not finite
-    /// (radius > 0), or a probability outside [0, 1].
-    void set_environment(const EnvironmentMapView& environment, glm::vec3 scene_centre,
+    /// Adds the sky `environment` (which must outlive the shooting) as a photon source, with the
+    /// sphere (`scene_centre`, `scene_radius`) that holds the scene's geometry. A photon comes
+    /// from the sky with probability `sky_probability`; by default in proportion to flux: the
+    /// sky sends `environment_power(environment, scene_radius)` into the sphere, against the
+    /// emitter points' total flux (1 without emitters). Throws std::invalid_argument for an
+    /// empty map, a centre or radius that is not finite (radius > 0), or a probability outside
+    /// [0, 1].
+    void set_environment(const EnvironmentMap& environment, glm::vec3 scene_centre,
                          float scene_radius, std::optional<float> sky_probability = std::nullopt) {
-        if (environment.empty())
+        if (environment.view().empty())
             throw std::invalid_argument("photon sky: the environment map is empty");
         if (!(is_finite(scene_centre.x) && is_finite(scene_centre.y) && is_finite(scene_centre.z) &&
               is_finite(scene_radius) && scene_radius > 0.0f))
@@ -262,25 +262,17 @@ public:
                 "photon sky: the bounding sphere needs a finite centre and a radius > 0");
         if (sky_probability && !(*sky_probability >= 0.0f && *sky_probability <= 1.0f))
             throw std::invalid_argument("photon sky: the sky probability must lie in [0, 1]");
-        environment_ = environment;
+        environment_ = environment.view();
         scene_centre_ = scene_centre;
         scene_radius_ = scene_radius;
+        sky_flux_ = static_cast<double>(environment_power(environment, scene_radius));
         sky_probability_ = sky_probability
                                ? *sky_probability
-                               : static_cast<float>(sky_flux() / (sky_flux() + emitter_flux_));
+                               : static_cast<float>(sky_flux_ / (sky_flux_ + emitter_flux_));
     }
 
-    /// Flux the sky sends into the bounding sphere, pi R^2 times the radiance integral summed
-    /// over the channels; 0 without a sky.
-    double sky_flux() const {
-        if (environment_.empty())
-            return 0.0;
-        const glm::vec3 integral = environment_radiance_integral(environment_);
-        const auto radius = static_cast<double>(scene_radius_);
-        return std::numbers::pi * radius * radius *
-               (static_cast<double>(integral.x) + static_cast<double>(integral.y) +
-                static_cast<double>(integral.z));
-    }
+    /// Flux the sky sends into the bounding sphere (`environment_power`); 0 without a sky.
+    double sky_flux() const noexcept { return sky_flux_; }
 
     /// Total flux of the emitter points, summed over the channels.
     double emitter_flux() const noexcept { return emitter_flux_; }
@@ -300,6 +292,7 @@ private:
     std::vector<EmitterPoint> points_;
     AliasTable table_;
     double emitter_flux_ = 0.0;
+    double sky_flux_ = 0.0;
     EnvironmentMapView environment_{};
     glm::vec3 scene_centre_{0.0f};
     float scene_radius_ = 0.0f;
