@@ -81,19 +81,15 @@ glm::vec3 PathTracer::environment_nee(const GSurface& s, restir::Pcg32& rng) con
     const float u0 = next_float(rng);
     const float u1 = next_float(rng);
     const restir::EnvironmentSample sky = environment_.sample({u0, u1});
-    const float cos_surface = glm::dot(s.normal, sky.direction);
-    if (!(sky.pdf > 0.0f) || !(cos_surface > 0.0f))
+    if (!(sky.pdf > 0.0f) || !(glm::dot(s.normal, sky.direction) > 0.0f))
         return glm::vec3(0.0f);
-    // The way out, from where closest_hit_from would start a ray in that direction.
-    const glm::vec3 from =
-        s.position + sky.direction * ray_offset_ + s.normal * (0.01f * ray_offset_);
-    if (rays_.occluded(from, from + sky.direction * escape_distance_))
+    const restir::ShadowSegment way_out = restir::distant_shadow_segment(
+        s.position, s.normal, sky.direction, ray_offset_, escape_distance_);
+    if (rays_.occluded(way_out.from, way_out.to))
         return glm::vec3(0.0f);
-    const glm::vec3 f_cos =
-        is_lambertian(s) ? s.albedo * (restir::inv_pi * cos_surface)
-                         : surface_bsdf(s).evaluate_cos(s.normal, view_direction(s), sky.direction);
-    // f L / p_sky times the balance heuristic p_sky / (p_sky + p_bsdf) (Veach 1997, 9.2).
-    return f_cos * sky.radiance / (sky.pdf + bounce_pdf(s, sky.direction));
+    // f L cos / p_sky times the balance heuristic p_sky / (p_sky + p_bsdf) (Veach 1997, 9.2).
+    return reflected(s, restir::environment_light_sample(sky)) *
+           (sky.pdf / (sky.pdf + bounce_pdf(s, sky.direction)));
 }
 
 glm::vec3 PathTracer::escaped(const restir::BsdfSample& bounce) const {
