@@ -97,28 +97,13 @@ struct Renderer::Impl {
             t.photons = light_set.photon_ms();
         if (settings.motion == CameraMotion::orbit)
             orbit_camera(accumulation.frames());
-        if (settings.method == Method::restir) {
+        if (settings.method == Method::restir)
             restir->render(accumulation.frames(), !new_vpl_set, accumulation.frame(), t);
-            show_escaped_rays();
-        } else
+        else
             independent_frame(accumulation.frames(), t);
         accumulation.add_frame();
         t.total = milliseconds_since(frame_start);
         return t;
-    }
-
-    // The environment where the frame's primary rays left the scene (ReSTIR shades those pixels
-    // black).
-    void show_escaped_rays() {
-        if (!scene.environment)
-            return;
-        blocks.for_each_block([&](const PixelBlock& block) {
-            blocks.for_each_pixel_of(block, [&](std::uint32_t, std::uint32_t, std::uint32_t i) {
-                const GSurface& s = gbuffer.surfaces()[i];
-                if (!s.valid)
-                    accumulation.frame().pixels[i] = escaped_radiance(scene, s);
-            });
-        });
     }
 
     // A new VPL set every `vpl_reshoot_interval` frames: true when this frame shot one.
@@ -202,7 +187,7 @@ struct Renderer::Impl {
                 accumulation.frame().pixels[i] +=
                     independent_radiance(s, picked[local(i)], rngs[local(i)]) /
                     static_cast<float>(settings.spp);
-            else if (scene.environment)
+            else // the environment in its direction (black without one)
                 accumulation.frame().pixels[i] +=
                     escaped_radiance(scene, s) / static_cast<float>(settings.spp);
         });

@@ -192,12 +192,12 @@ struct RestirDi::Stages {
     }
 
     // A pixel's radiance: its emission, the reservoir's light where `visible`, and with --gi
-    // path the path-traced indirect light.
+    // path the path-traced indirect light; the environment where its camera ray left the scene.
     glm::vec3 radiance(std::uint32_t i, std::uint32_t frame_index, const Reservoir& r,
                        bool visible) const {
         const GSurface& s = gbuffer.surfaces()[i];
         if (!s.valid)
-            return glm::vec3(0.0f);
+            return escaped_radiance(gbuffer.scene(), s);
         glm::vec3 color =
             emitted(gbuffer.scene(), s) + (visible ? unshadowed(r, s) : glm::vec3(0.0f));
         if (settings.gi == GlobalIllumination::path) {
