@@ -23,7 +23,7 @@ constexpr float pi = std::numbers::pi_v<float>;
 // The largest radiance (texel times scale) an environment may have.
 constexpr double max_environment_radiance = 1e30;
 
-float luminance(glm::vec3 rgb) { return 0.2126f * rgb.x + 0.7152f * rgb.y + 0.0722f * rgb.z; }
+using restir::environment_luminance;
 
 float radians(float degrees) { return degrees * (pi / 180.0f); }
 
@@ -80,14 +80,15 @@ float fill_sky(std::vector<glm::vec3>& texels, std::uint32_t width, std::uint32_
     double gradient_irradiance = 0.0;
     for_each_texel([&](glm::vec3& texel, float up, double cosine_solid_angle) {
         texel = up > 0.0f ? sky_gradient(up) : glm::vec3(0.0f);
-        gradient_irradiance += cosine_solid_angle * static_cast<double>(luminance(texel));
+        gradient_irradiance +=
+            cosine_solid_angle * static_cast<double>(environment_luminance(texel));
     });
     const auto normalise =
         static_cast<float>(static_cast<double>(sky_irradiance) / gradient_irradiance);
     double irradiance = 0.0;
     for_each_texel([&](glm::vec3& texel, float up, double cosine_solid_angle) {
         texel = up > 0.0f ? texel * normalise : ground_radiance;
-        irradiance += cosine_solid_angle * static_cast<double>(luminance(texel));
+        irradiance += cosine_solid_angle * static_cast<double>(environment_luminance(texel));
     });
     return static_cast<float>(irradiance);
 }
@@ -186,10 +187,12 @@ std::vector<glm::vec3> make_sun_sky_texels(const SunSkyParams& p, SunSkyFigures*
             texel_cosine_solid_angle(static_cast<std::uint32_t>(i / p.width), p.width, p.height);
     const auto sun_luminance = static_cast<double>(p.sun_to_sky_ratio * sky) / cosine_solid_angle;
     for (const std::size_t i : disc)
-        texels[i] += sun_colour / luminance(sun_colour) * static_cast<float>(sun_luminance);
+        texels[i] +=
+            sun_colour / environment_luminance(sun_colour) * static_cast<float>(sun_luminance);
     if (figures != nullptr)
         *figures = {sky, static_cast<float>(sun_luminance * cosine_solid_angle),
-                    luminance(texels[disc.front()]), static_cast<std::uint32_t>(disc.size())};
+                    environment_luminance(texels[disc.front()]),
+                    static_cast<std::uint32_t>(disc.size())};
     return texels;
 }
 

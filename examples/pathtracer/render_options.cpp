@@ -112,8 +112,8 @@ void add_environment_options(CLI::App& app, RenderOptions& options) {
     app.add_option("--env", options.environment,
                    "Environment map (.exr or .pfm, equirectangular, +Y up, the centre looking "
                    "down -Z, linear radiance, at most 8192x4096): lights the scene from "
-                   "infinitely far and shows where camera rays leave it (any scene; the "
-                   "reference path tracer samples it)");
+                   "infinitely far and shows where camera rays leave it (any scene; every "
+                   "method samples it)");
     app.add_option("--env-scale", options.environment_scale,
                    "Multiplies the environment's radiance (--env or sun-sky's sky)")
         ->check(finite_number & CLI::PositiveNumber);
