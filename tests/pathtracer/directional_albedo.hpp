@@ -1,5 +1,5 @@
-// Shared by the furnace tests: a BSDF's directional albedo from its own sampling, and one
-// pixel's radiance over many frames, each per channel.
+// Shared by the furnace tests: a BSDF's directional albedo from its own sampling, one pixel's
+// radiance over many frames, each per channel, and the pixels' radiance over many frames.
 #pragma once
 
 #include "renderer.hpp"
@@ -38,6 +38,17 @@ inline ChannelStats pixel_radiance(Renderer& renderer, int frames) {
         renderer.render_frame();
         for (int c = 0; c < 3; ++c)
             radiance[c].add(static_cast<double>(renderer.last_frame().pixels[0][c]));
+    }
+    return radiance;
+}
+
+/// Every pixel's mean over the colour channels in each of `frames` frames of `renderer`.
+inline restir::test::RunningStats pixel_means(Renderer& renderer, int frames) {
+    restir::test::RunningStats radiance;
+    for (int frame = 0; frame < frames; ++frame) {
+        renderer.render_frame();
+        for (const glm::vec3& p : renderer.last_frame().pixels)
+            radiance.add(static_cast<double>(p.x + p.y + p.z) / 3.0);
     }
     return radiance;
 }

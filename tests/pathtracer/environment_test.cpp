@@ -184,12 +184,7 @@ TEST(Environment, ReferenceReadsTheAlbedoUnderAUniformSky) {
         pt::RenderSettings s = reference_settings(scene, 16);
         s.gi = gi;
         pt::Renderer renderer(scene, s);
-        restir::test::RunningStats radiance;
-        for (int frame = 0; frame < 8; ++frame) {
-            renderer.render_frame();
-            for (const glm::vec3& p : renderer.last_frame().pixels)
-                radiance.add(static_cast<double>(p.x + p.y + p.z) / 3.0);
-        }
+        const restir::test::RunningStats radiance = pt::test::pixel_means(renderer, 8);
         std::printf("plane under a white sky, gi %d: %.5f +- %.5f, expected %.5f\n",
                     static_cast<int>(gi), radiance.mean(), radiance.standard_error(),
                     static_cast<double>(albedo));

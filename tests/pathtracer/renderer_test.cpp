@@ -146,12 +146,7 @@ TEST(Renderer, ReferenceConvergesToTheFurnaceRadiance) {
         s.gi = gi;
         s.max_depth = 64;
         pt::Renderer renderer(scene, s);
-        restir::test::RunningStats radiance;
-        for (int frame = 0; frame < 8; ++frame) {
-            renderer.render_frame();
-            for (const glm::vec3& p : renderer.last_frame().pixels)
-                radiance.add(static_cast<double>(p.x + p.y + p.z) / 3.0);
-        }
+        const restir::test::RunningStats radiance = pt::test::pixel_means(renderer, 8);
         const double expected = gi == GlobalIllumination::none
                                     ? 1.0 + static_cast<double>(albedo)
                                     : 1.0 / (1.0 - static_cast<double>(albedo));
