@@ -10,6 +10,7 @@
 #include <cmath>
 #include <span>
 #include <string>
+#include <utility>
 
 namespace pt {
 
@@ -153,6 +154,7 @@ void LightSet::build_light_set(std::uint32_t generation) {
         emitter_table_.build(std::span<const float>(powers.data(), emitters_.light_count()));
     if (!vpls_.empty())
         vpl_table_.build(std::span<const float>(powers.data() + lights_.first_vpl(), vpls_.size()));
+    powers_ = std::move(powers);
 }
 
 // The local lights' table, and the environment's share of all lights beside them.
@@ -175,7 +177,7 @@ void LightSet::build_local_table(std::vector<float> powers) {
 }
 
 std::vector<restir::LightBounds> LightSet::light_bounds() const {
-    const std::vector<float> powers = restir::unified_light_powers(lights_, environment_weight());
+    const std::vector<float>& powers = powers_;
     std::vector<restir::LightBounds> bounds;
     bounds.reserve(powers.size());
     for (std::uint32_t e = 0; e < emitters_.light_count(); ++e)

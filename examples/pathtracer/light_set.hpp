@@ -86,6 +86,7 @@ private:
     double photon_ms_ = 0.0;
     std::optional<std::uint32_t> photons_per_set_;
     Unified lights_;
+    std::vector<float> powers_; ///< `light_table_`'s weights, by light id
     restir::AliasTable light_table_, local_table_, emitter_table_, vpl_table_;
     restir::DistantLights<> distant_;
 };
