@@ -13,6 +13,7 @@
 #include "restir/core/reservoir.hpp"
 #include "restir/core/rng.hpp"
 #include "restir/reuse/reuse_input.hpp"
+#include "restir/reuse/shift.hpp"
 #include "restir/reuse/similarity.hpp"
 #include "restir/reuse/visibility.hpp"
 
@@ -82,43 +83,99 @@ struct ReuseParams {
 };
 
 /// The functions reuse evaluates: the target p-hat(sample, surface), the visibility of a
-/// sample from a surface, and the material hook of the similarity test.
-template <class Target, class Visibility, class MaterialTest = AnyMaterial>
+/// sample from a surface, the material hook of the similarity test, and the shift that carries
+/// a sample from the surface that resampled it to another (reuse/shift.hpp; the identity for
+/// light samples, which compiles away).
+template <class Target, class Visibility, class MaterialTest = AnyMaterial,
+          class Shift = IdentityShift>
 struct ReuseBridge {
     Target target;
     Visibility visibility;
     MaterialTest material_test{};
+    Shift shift{};
 };
 
 template <class Target, class Visibility>
-ReuseBridge(Target, Visibility) -> ReuseBridge<Target, Visibility, AnyMaterial>;
+ReuseBridge(Target, Visibility) -> ReuseBridge<Target, Visibility, AnyMaterial, IdentityShift>;
 template <class Target, class Visibility, class MaterialTest>
-ReuseBridge(Target, Visibility, MaterialTest) -> ReuseBridge<Target, Visibility, MaterialTest>;
+ReuseBridge(Target, Visibility, MaterialTest)
+    -> ReuseBridge<Target, Visibility, MaterialTest, IdentityShift>;
+template <class Target, class Visibility, class MaterialTest, class Shift>
+ReuseBridge(Target, Visibility, MaterialTest, Shift)
+    -> ReuseBridge<Target, Visibility, MaterialTest, Shift>;
 
 namespace detail {
 
+/// Input j's reservoir as the receiver takes it in: its sample shifted to the receiver, W times
+/// the shift's Jacobian (so that merging weighs it with p-hat_q(T(x)) W |dT/dx|, Lin et al.
+/// 2022, Eq. 3.4), and p-hat_q(T(x)). A copy, made only under a shift other than the identity.
+template <class Sample>
+struct ShiftedInput {
+    Reservoir<Sample> reservoir;
+    float target = 0.0f;   ///< p-hat_q(T(x)), 0 where the shift fails.
+    float jacobian = 0.0f; ///< |dT/dx|, 0 where the shift fails.
+    RESTIR_HOST_DEVICE const Reservoir<Sample>& lent() const { return reservoir; }
+};
+/// The same under the identity shift: the reservoir in place, Jacobian 1.
+template <class Sample>
+struct UnshiftedInput {
+    const Reservoir<Sample>* reservoir;
+    float target = 0.0f; ///< p-hat_q(x).
+    static constexpr float jacobian = 1.0f;
+    RESTIR_HOST_DEVICE const Reservoir<Sample>& lent() const { return *reservoir; }
+};
+
 /// What every bias correction evaluates: p-hat at the receiver, and p-hat_j(x) of input j as
-/// the MIS weights need it.
-template <class Sample, class S, class Target, class Visibility, class MaterialTest>
+/// the MIS weights need it, with the shifts between their surfaces.
+template <class Sample, class S, class Bridge>
 struct ReuseTerms {
     const S& surface;
     const ReuseParams& params;
-    const ReuseBridge<Target, Visibility, MaterialTest>& bridge;
+    const Bridge& bridge;
+
+    /// Whether samples change between surfaces (a shift other than the identity).
+    static constexpr bool shifts = !is_identity_shift<decltype(Bridge::shift)>;
 
     /// p-hat at the receiver, without visibility: the target of the result.
     RESTIR_HOST_DEVICE float here(const Sample& x) const {
         return static_cast<float>(bridge.target(x, surface));
     }
+    /// Input j's reservoir `r`, lent from surface `there`, as the receiver takes it in
+    /// (`ShiftedInput`); without a shift, `r` itself and p-hat_q of its sample. Target 0 for a
+    /// reservoir without a sample (nothing is evaluated).
+    RESTIR_HOST_DEVICE auto lend(const Reservoir<Sample>& r, const S& there) const {
+        if constexpr (shifts) {
+            ShiftedInput<Sample> in{r, 0.0f, 0.0f};
+            if (!r.has_sample())
+                return in;
+            const ShiftedSample<Sample> y = bridge.shift(r.sample, there, surface);
+            in.reservoir.sample = y.sample;
+            if (is_valid_weight(y.jacobian) && y.jacobian > 0.0f) {
+                in.target = here(y.sample);
+                in.jacobian = y.jacobian;
+            }
+            in.reservoir.contribution_weight *= in.jacobian; // never enters where T fails
+            return in;
+        } else {
+            return UnshiftedInput<Sample>{&r, r.has_sample() ? here(r.sample) : 0.0f};
+        }
+    }
     /// p-hat_j(x) at input j's surface, times the visibility there under visibility reuse,
     /// since input j then cannot lend samples that are occluded from it. (Its own sample
     /// included: a reservoir that went through reuse after its last visibility test may hold
     /// one.) The canonical input needs no visibility term: where the receiver sees nothing the
-    /// integrand is zero whatever the weights.
+    /// integrand is zero whatever the weights. Under a shift, x is the receiver's and enters as
+    /// p-hat_j(T(x)) |dT/dx| with T the shift from the receiver to input j's surface (Lin et
+    /// al. 2022, Eq. 5.10), 0 where it fails.
     RESTIR_HOST_DEVICE float at(const Sample& x, const S& there) const {
-        const auto t = static_cast<float>(bridge.target(x, there));
-        if (t > 0.0f && traces() && !bridge.visibility(x, there))
-            return 0.0f;
-        return t;
+        if constexpr (shifts) {
+            const ShiftedSample<Sample> y = bridge.shift(x, surface, there);
+            if (!is_valid_weight(y.jacobian) || !(y.jacobian > 0.0f))
+                return 0.0f;
+            return visible_target(y.sample, there) * y.jacobian;
+        } else {
+            return visible_target(x, there);
+        }
     }
     /// p-hat_j(y_j) of input j's own sample, as `at` gives it: the reservoir keeps the target
     /// at its own surface, so only the visibility term needs computing (a ray, under traced
@@ -131,6 +188,14 @@ struct ReuseTerms {
         return t;
     }
     RESTIR_HOST_DEVICE bool traces() const { return traces_mis_rays(params.visibility); }
+
+private:
+    RESTIR_HOST_DEVICE float visible_target(const Sample& x, const S& there) const {
+        const auto t = static_cast<float>(bridge.target(x, there));
+        if (t > 0.0f && traces() && !bridge.visibility(x, there))
+            return 0.0f;
+        return t;
+    }
 };
 
 /// Input sets that declare `packed` hold only inputs that take part: non-null and well-formed.
@@ -202,8 +267,9 @@ RESTIR_HOST_DEVICE auto pack_inputs(const Inputs& inputs) {
 }
 
 /// The merges of 1/M and 1/Z (Alg. 4): the canonical reservoir, then every input with weight
-/// p-hat_q(y_i) W_i M_i; with `only_own_support` an input lends only a sample it could produce
-/// (p-hat_i(y_i) > 0 with its visibility), as 1/Z needs.
+/// p-hat_q(y_i) W_i M_i (under a shift p-hat_q(T(y_i)) W_i M_i |dT/dy_i|); with
+/// `only_own_support` an input lends only a sample it could produce (p-hat_i(y_i) > 0 with its
+/// visibility), as 1/Z needs.
 template <class Sample, class S, class Inputs, class Terms, class Rng>
 RESTIR_HOST_DEVICE Reservoir<Sample> merge_inputs(const Reservoir<Sample>& canonical,
                                                   const Inputs& inputs, const Terms& terms,
@@ -213,7 +279,12 @@ RESTIR_HOST_DEVICE Reservoir<Sample> merge_inputs(const Reservoir<Sample>& canon
     for_each_input<Sample, S>(
         inputs, [&](std::uint32_t, const Reservoir<Sample>& r, const S& there) {
             const bool lends = r.has_sample() && (!only_own_support || terms.own(r, there) > 0.0f);
-            result.merge(r, lends ? terms.here(r.sample) : 0.0f, next_float(rng));
+            if (lends) {
+                const auto in = terms.lend(r, there);
+                result.merge(in.lent(), in.target, next_float(rng));
+            } else {
+                result.merge(r, 0.0f, next_float(rng));
+            }
         });
     return result;
 }
@@ -223,13 +294,13 @@ RESTIR_HOST_DEVICE Reservoir<Sample> merge_inputs(const Reservoir<Sample>& canon
 /// Bias correction `none` (Bitterli et al. 2020, Alg. 4): w_i = p-hat_q(y_i) W_i M_i, W with
 /// the 1/M weights. The inputs are visited once.
 template <class Sample, Surface S, class Inputs, class Target, class Visibility, class MaterialTest,
-          UniformRng Rng>
+          class Shift, UniformRng Rng>
 requires ReuseInputs<Inputs, Sample, S> RESTIR_HOST_DEVICE Reservoir<Sample>
 combine_one_over_m(const Reservoir<Sample>& canonical, const S& surface, const Inputs& inputs,
                    const ReuseParams& params,
-                   const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng) {
-    const detail::ReuseTerms<Sample, S, Target, Visibility, MaterialTest> terms{surface, params,
-                                                                                bridge};
+                   const ReuseBridge<Target, Visibility, MaterialTest, Shift>& bridge, Rng& rng) {
+    const detail::ReuseTerms<Sample, S, ReuseBridge<Target, Visibility, MaterialTest, Shift>> terms{
+        surface, params, bridge};
     Reservoir<Sample> result =
         detail::merge_inputs<Sample, S>(canonical, inputs, terms, false, rng);
     result.finalize();
@@ -241,13 +312,13 @@ combine_one_over_m(const Reservoir<Sample>& canonical, const S& surface, const I
 /// W normalised by 1 / Z(y), Z the M of the inputs whose p-hat (with visibility) is positive at
 /// the kept y. The inputs are visited twice.
 template <class Sample, Surface S, class Inputs, class Target, class Visibility, class MaterialTest,
-          UniformRng Rng>
+          class Shift, UniformRng Rng>
 requires ReuseInputs<Inputs, Sample, S> RESTIR_HOST_DEVICE Reservoir<Sample>
 combine_one_over_z(const Reservoir<Sample>& canonical, const S& surface, const Inputs& inputs,
                    const ReuseParams& params,
-                   const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng) {
-    const detail::ReuseTerms<Sample, S, Target, Visibility, MaterialTest> terms{surface, params,
-                                                                                bridge};
+                   const ReuseBridge<Target, Visibility, MaterialTest, Shift>& bridge, Rng& rng) {
+    const detail::ReuseTerms<Sample, S, ReuseBridge<Target, Visibility, MaterialTest, Shift>> terms{
+        surface, params, bridge};
     Reservoir<Sample> result = detail::merge_inputs<Sample, S>(canonical, inputs, terms, true, rng);
     // Z: the M of every input that could have produced y (the canonical one did or could,
     // since p-hat_q(y) > 0 for a selected y).
@@ -266,49 +337,62 @@ combine_one_over_z(const Reservoir<Sample>& canonical, const S& surface, const I
 /// (M_c p-hat_q(x) + sum_l M_l p-hat_l(x)). Each input's weight visits all inputs again:
 /// (k + 1)^2 target evaluations.
 template <class Sample, Surface S, class Inputs, class Target, class Visibility, class MaterialTest,
-          UniformRng Rng>
+          class Shift, UniformRng Rng>
 requires ReuseInputs<Inputs, Sample, S> RESTIR_HOST_DEVICE Reservoir<Sample>
 combine_balance_heuristic(const Reservoir<Sample>& canonical, const S& surface,
                           const Inputs& inputs, const ReuseParams& params,
-                          const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng) {
-    const detail::ReuseTerms<Sample, S, Target, Visibility, MaterialTest> terms{surface, params,
-                                                                                bridge};
+                          const ReuseBridge<Target, Visibility, MaterialTest, Shift>& bridge,
+                          Rng& rng) {
+    const detail::ReuseTerms<Sample, S, ReuseBridge<Target, Visibility, MaterialTest, Shift>> terms{
+        surface, params, bridge};
     const float canonical_count = static_cast<float>(canonical.candidate_count);
     // sum_l M_l p-hat_l(x) over the inputs; input `own` contributes M_own p-hat_own(y_own),
     // returned through `own_term`.
-    const auto neighbour_sum = [&](const Sample& x, std::uint32_t own, float& own_term) {
-        float sum = 0.0f;
+    // sum_l M_l p-hat_l(x) over the inputs (`all`) and without input `own` (`others`); input
+    // `own` contributes M_own p-hat_own(y_own), returned through `own_term`.
+    struct Sums {
+        float all = 0.0f, others = 0.0f, own = 0.0f;
+    };
+    const auto neighbour_sums = [&](const Sample& x, std::uint32_t own) {
+        Sums sums;
         detail::for_each_input<Sample, S>(
             inputs, [&](std::uint32_t l, const Reservoir<Sample>& r, const S& there) {
                 const float term = static_cast<float>(r.candidate_count) *
                                    (l == own ? terms.own(r, there) : terms.at(x, there));
-                sum += term;
+                sums.all += term;
                 if (l == own)
-                    own_term = term;
+                    sums.own = term;
+                else
+                    sums.others += term;
             });
-        return sum;
+        return sums;
     };
     Reservoir<Sample> result;
     float canonical_mis = 0.0f;
     if (canonical.has_sample()) {
         const float own = canonical_count * canonical.target_value;
-        float unused = 0.0f;
         canonical_mis =
-            safe_divide(own, own + neighbour_sum(canonical.sample, max_reuse_inputs, unused));
+            safe_divide(own, own + neighbour_sums(canonical.sample, max_reuse_inputs).all);
     }
     result.merge_with_mis(canonical, canonical.target_value, canonical_mis, next_float(rng));
-    detail::for_each_input<Sample, S>(
-        inputs, [&](std::uint32_t i, const Reservoir<Sample>& r, const S&) {
-            float here = 0.0f;
-            float mis_weight = 0.0f;
-            if (r.has_sample()) {
-                here = terms.here(r.sample);
-                float own = 0.0f;
-                const float all_neighbours = neighbour_sum(r.sample, i, own);
-                mis_weight = safe_divide(own, canonical_count * here + all_neighbours);
-            }
-            result.merge_with_mis(r, here, mis_weight, next_float(rng));
-        });
+    detail::for_each_input<Sample, S>(inputs, [&](std::uint32_t i, const Reservoir<Sample>& r,
+                                                  const S& there) {
+        const auto in = terms.lend(r, there);
+        float mis_weight = 0.0f;
+        if (r.has_sample()) {
+            const Sums sums = neighbour_sums(in.lent().sample, i);
+            if constexpr (decltype(terms)::shifts)
+                // y = T(y_i): m_i = M_i p-hat_i(y_i) / (M_i p-hat_i(y_i) + |dT/dy_i| (M_c
+                // p-hat_q(y) + sum_{l != i} M_l p-hat_l(T_l(y)) |dT_l/dy|)), the balance
+                // heuristic over the targets carried to the receiver (Lin et al. 2022,
+                // Eq. 5.10), numerator and denominator times |dT/dy_i|.
+                mis_weight = safe_divide(
+                    sums.own, sums.own + in.jacobian * (canonical_count * in.target + sums.others));
+            else
+                mis_weight = safe_divide(sums.own, canonical_count * in.target + sums.all);
+        }
+        result.merge_with_mis(in.lent(), in.target, mis_weight, next_float(rng));
+    });
     result.finalize_normalized(1.0f);
     return result;
 }
@@ -318,13 +402,13 @@ combine_balance_heuristic(const Reservoir<Sample>& canonical, const S& surface,
 /// split by a two-technique balance heuristic; the betas sum to one. The inputs are visited
 /// twice (their M, then the pairs): 3k target evaluations.
 template <class Sample, Surface S, class Inputs, class Target, class Visibility, class MaterialTest,
-          UniformRng Rng>
+          class Shift, UniformRng Rng>
 requires ReuseInputs<Inputs, Sample, S> RESTIR_HOST_DEVICE Reservoir<Sample>
 combine_pairwise(const Reservoir<Sample>& canonical, const S& surface, const Inputs& inputs,
                  const ReuseParams& params,
-                 const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng) {
-    const detail::ReuseTerms<Sample, S, Target, Visibility, MaterialTest> terms{surface, params,
-                                                                                bridge};
+                 const ReuseBridge<Target, Visibility, MaterialTest, Shift>& bridge, Rng& rng) {
+    const detail::ReuseTerms<Sample, S, ReuseBridge<Target, Visibility, MaterialTest, Shift>> terms{
+        surface, params, bridge};
     const float canonical_count = static_cast<float>(canonical.candidate_count);
     float total_count = canonical_count;
     const std::uint32_t k = detail::for_each_input<Sample, S>(
@@ -344,14 +428,16 @@ combine_pairwise(const Reservoir<Sample>& canonical, const S& surface, const Inp
                                                   const S& there) {
         const float count = static_cast<float>(r.candidate_count);
         const float pair_weight = safe_divide(count + canonical_share, total_count);
-        float here = 0.0f;
+        const auto in = terms.lend(r, there);
         float mis_weight = 0.0f;
         if (r.has_sample()) {
-            here = terms.here(r.sample);
+            // Under a shift, the canonical technique's density carried to input i's domain is
+            // p-hat_q(T(y_i)) |dT/dy_i| (Lin et al. 2022, Eq. 5.10).
             const float own = count * terms.own(r, there);
-            mis_weight = pair_weight * safe_divide(own, own + canonical_share * here);
+            mis_weight =
+                pair_weight * safe_divide(own, own + canonical_share * in.target * in.jacobian);
         }
-        result.merge_with_mis(r, here, mis_weight, next_float(rng));
+        result.merge_with_mis(in.lent(), in.target, mis_weight, next_float(rng));
         if (canonical.has_sample()) {
             const float canonical_own = canonical_share * canonical.target_value;
             canonical_mis += pair_weight *
@@ -371,13 +457,13 @@ combine_pairwise(const Reservoir<Sample>& canonical, const S& surface, const Inp
 /// at most max_reuse_inputs - 1 take part. Consumes one uniform number per input that takes
 /// part. A canonical reservoir with non-finite fields takes part as an empty one.
 template <BiasCorrection Mode, class Sample, Surface S, class Inputs, class Target,
-          class Visibility, class MaterialTest, UniformRng Rng>
+          class Visibility, class MaterialTest, class Shift, UniformRng Rng>
 requires ReuseInputs<Inputs, Sample, S> && TargetFunction<Target, Sample, S> &&
     VisibilityFunction<Visibility, Sample, S>
         RESTIR_HOST_DEVICE Reservoir<Sample>
         combine_with(const Reservoir<Sample>& receiver_reservoir, const S& surface,
                      const Inputs& inputs, const ReuseParams& params,
-                     const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng) {
+                     const ReuseBridge<Target, Visibility, MaterialTest, Shift>& bridge, Rng& rng) {
     const Reservoir<Sample> canonical =
         receiver_reservoir.is_well_formed() ? receiver_reservoir : Reservoir<Sample>{};
 #if !defined(__CUDA_ARCH__)
@@ -398,13 +484,14 @@ requires ReuseInputs<Inputs, Sample, S> && TargetFunction<Target, Sample, S> &&
 
 /// `combine_with` for the mode in `params.bias_correction`, chosen at run time.
 template <class Sample, Surface S, class Inputs, class Target, class Visibility, class MaterialTest,
-          UniformRng Rng>
+          class Shift, UniformRng Rng>
 requires ReuseInputs<Inputs, Sample, S> && TargetFunction<Target, Sample, S> &&
     VisibilityFunction<Visibility, Sample, S>
         RESTIR_HOST_DEVICE Reservoir<Sample>
         combine_inputs(const Reservoir<Sample>& receiver_reservoir, const S& surface,
                        const Inputs& inputs, const ReuseParams& params,
-                       const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng) {
+                       const ReuseBridge<Target, Visibility, MaterialTest, Shift>& bridge,
+                       Rng& rng) {
     switch (params.bias_correction) {
     case BiasCorrection::none:
         return combine_with<BiasCorrection::none, Sample>(receiver_reservoir, surface, inputs,
@@ -425,14 +512,15 @@ requires ReuseInputs<Inputs, Sample, S> && TargetFunction<Target, Sample, S> &&
 /// `combine_inputs` over `neighbour_count` inputs gathered into an array (for renderers that
 /// collect a pass's inputs ahead of it); the first max_reuse_inputs - 1 well-formed ones take
 /// part.
-template <class Sample, Surface S, class Target, class Visibility, class MaterialTest,
+template <class Sample, Surface S, class Target, class Visibility, class MaterialTest, class Shift,
           UniformRng Rng>
 requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
     RESTIR_HOST_DEVICE Reservoir<Sample>
     combine_reservoirs(const Reservoir<Sample>& receiver_reservoir, const S& surface,
                        const ReuseInput<Sample, S>* neighbours, std::uint32_t neighbour_count,
                        const ReuseParams& params,
-                       const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng) {
+                       const ReuseBridge<Target, Visibility, MaterialTest, Shift>& bridge,
+                       Rng& rng) {
     RESTIR_ASSERT(neighbour_count < max_reuse_inputs);
     return combine_inputs(receiver_reservoir, surface,
                           ReuseInputSpan<Sample, S>{neighbours, neighbour_count}, params, bridge,

@@ -246,13 +246,13 @@ requires(std::same_as<History, ImageView<const Reservoir<Sample>>> ||
     /// finalised RIS reservoir (called for valid surfaces only); `rng_for(pixel, stream)` a
     /// generator for the pixel and a `RngStream` stream; `shade(pixel, reservoir, visible)` is
     /// called by `finish` with the final reservoir and whether f(y) W is to be shaded.
-    template <class Initial, class Target, class Visibility, class MaterialTest, class RngFor,
-              class Shade = NoShading>
+    template <class Initial, class Target, class Visibility, class MaterialTest, class Shift,
+              class RngFor, class Shade = NoShading>
     requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
         RESTIR_HOST_DEVICE void
         run_pixel(const DiStep& step, PixelCoord pixel, const DiBuffers<Sample>& buffers,
                   const Initial& initial_candidates,
-                  const ReuseBridge<Target, Visibility, MaterialTest>& bridge,
+                  const ReuseBridge<Target, Visibility, MaterialTest, Shift>& bridge,
                   const RngFor& rng_for, const Shade& shade = {}) const {
         switch (step.stage) {
         case DiStage::initial:
@@ -276,12 +276,12 @@ requires(std::same_as<History, ImageView<const Reservoir<Sample>>> ||
     /// `run_pixel` for a step of stage `Stage` (`step.stage`), for a kernel per stage that
     /// compiles only that stage's code.
     template <DiStage Stage, class Initial, class Target, class Visibility, class MaterialTest,
-              class RngFor, class Shade = NoShading>
+              class Shift, class RngFor, class Shade = NoShading>
     requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
         RESTIR_HOST_DEVICE void
         run_stage(const DiStep& step, PixelCoord pixel, const DiBuffers<Sample>& buffers,
                   const Initial& initial_candidates,
-                  const ReuseBridge<Target, Visibility, MaterialTest>& bridge,
+                  const ReuseBridge<Target, Visibility, MaterialTest, Shift>& bridge,
                   const RngFor& rng_for, const Shade& shade = {}) const {
         RESTIR_ASSERT(step.stage == Stage);
         const ImageView<Reservoir<Sample>> output = buffers[step.output];
@@ -457,12 +457,12 @@ private:
 /// history. (reuse/di_frame_tiles.hpp runs it per tile with batched rays.)
 template <class Sample, Surface S, Reprojection Reproject, class History, class Surfaces,
           class ForEachPixel, class Initial, class Target, class Visibility, class MaterialTest,
-          class RngFor, class Shade = NoShading>
+          class Shift, class RngFor, class Shade = NoShading>
 requires VisibilityFunction<Visibility, Sample, S>
 void run_di_frame(const DiFrame<Sample, S, Reproject, History, Surfaces>& frame,
                   const DiBuffers<Sample>& buffers, const ForEachPixel& for_each_pixel,
                   const Initial& initial_candidates,
-                  const ReuseBridge<Target, Visibility, MaterialTest>& bridge,
+                  const ReuseBridge<Target, Visibility, MaterialTest, Shift>& bridge,
                   const RngFor& rng_for, const Shade& shade = {}) {
     const std::uint32_t steps = frame.step_count();
     for (std::uint32_t i = 0; i < steps; ++i) {
@@ -477,12 +477,12 @@ void run_di_frame(const DiFrame<Sample, S, Reproject, History, Surfaces>& frame,
 /// before 0.2).
 template <class Sample, Surface S, Reprojection Reproject, class History, class Surfaces,
           class ForEachPixel, class Initial, class Target, class Visibility, class MaterialTest,
-          class RngFor>
+          class Shift, class RngFor>
 requires VisibilityFunction<Visibility, Sample, S>
 void run_di_frame(const DiFrame<Sample, S, Reproject, History, Surfaces>& frame,
                   ImageView<Reservoir<Sample>> out, ImageView<Reservoir<Sample>> scratch,
                   const ForEachPixel& for_each_pixel, const Initial& initial_candidates,
-                  const ReuseBridge<Target, Visibility, MaterialTest>& bridge,
+                  const ReuseBridge<Target, Visibility, MaterialTest, Shift>& bridge,
                   const RngFor& rng_for) {
     run_di_frame(frame, DiBuffers<Sample>{out, scratch}, for_each_pixel, initial_candidates, bridge,
                  rng_for);

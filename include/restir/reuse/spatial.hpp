@@ -200,14 +200,14 @@ find_spatial_neighbours(PixelCoord centre, const S& surface,
 /// `reservoirs` and `surfaces` only; write the result to a different buffer. A pixel with an
 /// invalid surface keeps its reservoir. Precondition: `pixel` lies in both views (a debug
 /// build checks); outside them the result is empty.
-template <class Sample, Surface S, class Target, class Visibility, class MaterialTest,
+template <class Sample, Surface S, class Target, class Visibility, class MaterialTest, class Shift,
           UniformRng Rng>
 requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
     RESTIR_HOST_DEVICE Reservoir<Sample>
     spatial_resample(PixelCoord pixel, ImageView<const Reservoir<Sample>> reservoirs,
                      ImageView<const S> surfaces, const SpatialParams& params,
                      const ReuseParams& reuse,
-                     const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng,
+                     const ReuseBridge<Target, Visibility, MaterialTest, Shift>& bridge, Rng& rng,
                      const NeighbourOffsets& offsets = default_neighbour_offsets()) {
     RESTIR_ASSERT(reservoirs.contains(pixel) && surfaces.contains(pixel));
     if (!reservoirs.contains(pixel) || !surfaces.contains(pixel))

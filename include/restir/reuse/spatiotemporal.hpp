@@ -47,7 +47,7 @@ struct HistoryAndNeighbours {
 /// usable history pixel (disocclusion) the neighbours around the reprojected position are
 /// still reused.
 template <class Sample, Surface S, Reprojection Reproject, class Target, class Visibility,
-          class MaterialTest, UniformRng Rng>
+          class MaterialTest, class Shift, UniformRng Rng>
 requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
     RESTIR_HOST_DEVICE Reservoir<Sample>
     spatiotemporal_resample(PixelCoord pixel, const Reservoir<Sample>& current, const S& surface,
@@ -55,7 +55,8 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
                             ImageView<const S> previous_surfaces, const Reproject& reproject,
                             const TemporalParams& temporal, const SpatialParams& spatial,
                             const ReuseParams& reuse, std::uint32_t frame_index,
-                            const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng,
+                            const ReuseBridge<Target, Visibility, MaterialTest, Shift>& bridge,
+                            Rng& rng,
                             const NeighbourOffsets& offsets = default_neighbour_offsets()) {
     if (!is_valid_surface(surface))
         return current;
@@ -83,7 +84,7 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
 /// `reuse`, here the default: pairwise MIS with traced rays) and the frame number
 /// `TemporalParams::frame_index` (now `frame_index`, here 0). Kept until at least 0.3.
 template <class Sample, Surface S, Reprojection Reproject, class Target, class Visibility,
-          class MaterialTest, UniformRng Rng>
+          class MaterialTest, class Shift, UniformRng Rng>
 requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
 [[deprecated("pass ReuseParams and the frame index after SpatialParams")]] RESTIR_HOST_DEVICE
     Reservoir<Sample>
@@ -92,7 +93,8 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
                             ImageView<const S> previous_surfaces, const Reproject& reproject,
                             const TemporalParams& temporal, const SpatialParams& spatial,
                             const NeighbourOffsets& offsets,
-                            const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng) {
+                            const ReuseBridge<Target, Visibility, MaterialTest, Shift>& bridge,
+                            Rng& rng) {
     return spatiotemporal_resample(pixel, current, surface, previous_reservoirs, previous_surfaces,
                                    reproject, temporal, spatial, ReuseParams{}, 0u, bridge, rng,
                                    offsets);
@@ -102,7 +104,7 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
 /// `NeighbourSearch` and the bias correction in the removed `TemporalParams::reuse`: here
 /// `reuse` and `frame_index` are arguments of their own. Kept until at least 0.3.
 template <class Sample, Surface S, Reprojection Reproject, class Target, class Visibility,
-          class MaterialTest, UniformRng Rng>
+          class MaterialTest, class Shift, UniformRng Rng>
 requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
 [[deprecated("pass SpatialParams, ReuseParams and the frame index")]] RESTIR_HOST_DEVICE
     Reservoir<Sample>
@@ -111,8 +113,9 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
                             ImageView<const S> previous_surfaces, const Reproject& reproject,
                             const TemporalParams& temporal, const NeighbourSearch& search,
                             const NeighbourOffsets& offsets,
-                            const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng,
-                            const ReuseParams& reuse = {}, std::uint32_t frame_index = 0u) {
+                            const ReuseBridge<Target, Visibility, MaterialTest, Shift>& bridge,
+                            Rng& rng, const ReuseParams& reuse = {},
+                            std::uint32_t frame_index = 0u) {
     SpatialParams spatial;
     spatial.neighbour_count = search.neighbour_count;
     spatial.radius = search.radius;

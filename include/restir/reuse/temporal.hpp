@@ -84,14 +84,14 @@ RESTIR_HOST_DEVICE constexpr std::uint32_t history_cap(std::uint32_t current_cou
 /// the history `input` that `reusable_input` found for it, its M capped; `current` unchanged when
 /// `input` is null. For renderers that look the history up ahead of the pass (to trace its MIS
 /// ray in a batch) and should not look it up twice.
-template <class Sample, Surface S, class Target, class Visibility, class MaterialTest,
+template <class Sample, Surface S, class Target, class Visibility, class MaterialTest, class Shift,
           UniformRng Rng>
 requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
     RESTIR_HOST_DEVICE Reservoir<Sample>
     temporal_combine(const Reservoir<Sample>& current, const S& surface,
                      ReuseInput<Sample, S> input, const TemporalParams& params,
                      const ReuseParams& reuse,
-                     const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng) {
+                     const ReuseBridge<Target, Visibility, MaterialTest, Shift>& bridge, Rng& rng) {
     if (input.reservoir == nullptr)
         return current;
     return combine_inputs(
@@ -106,15 +106,14 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
 /// combined, finalised reservoir; without usable history (disocclusion, dissimilar surface,
 /// non-finite history) it returns `current` unchanged. `frame_index` selects the permutation.
 template <class Sample, Surface S, Reprojection Reproject, class Target, class Visibility,
-          class MaterialTest, UniformRng Rng>
+          class MaterialTest, class Shift, UniformRng Rng>
 requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
-    RESTIR_HOST_DEVICE Reservoir<Sample>
-    temporal_resample(PixelCoord pixel, const Reservoir<Sample>& current, const S& surface,
-                      ImageView<const Reservoir<Sample>> previous_reservoirs,
-                      ImageView<const S> previous_surfaces, const Reproject& reproject,
-                      const TemporalParams& params, const ReuseParams& reuse,
-                      std::uint32_t frame_index,
-                      const ReuseBridge<Target, Visibility, MaterialTest>& bridge, Rng& rng) {
+    RESTIR_HOST_DEVICE Reservoir<Sample> temporal_resample(
+        PixelCoord pixel, const Reservoir<Sample>& current, const S& surface,
+        ImageView<const Reservoir<Sample>> previous_reservoirs,
+        ImageView<const S> previous_surfaces, const Reproject& reproject,
+        const TemporalParams& params, const ReuseParams& reuse, std::uint32_t frame_index,
+        const ReuseBridge<Target, Visibility, MaterialTest, Shift>& bridge, Rng& rng) {
     if (!is_valid_surface(surface))
         return current;
     return temporal_combine(current, surface,
