@@ -151,7 +151,7 @@ std::ofstream open_csv(const std::string& path) {
         fail("cannot write " + path);
     csv << "frame,rmse,frame_rmse,frame_ms,elapsed_ms,primary_ms,photons_ms,candidates_ms,"
            "temporal_ms,spatial_ms,shading_ms,tiles_ms,bias,frame_bias,"
-        << error_header() << ',' << glossy_header << '\n';
+        << error_header() << ',' << glossy_header << ",indirect_ms\n";
     return csv;
 }
 
@@ -168,17 +168,20 @@ void report_frame(std::uint32_t frame, const pt::FrameTimings& t, double elapsed
         frame_bias =
             std::to_string(pt::relative_mean_difference(renderer.last_frame(), *reference));
     }
+    char indirect[32] = ""; // the ReSTIR GI frame's phase, where it runs
+    if (t.indirect > 0.0)
+        std::snprintf(indirect, sizeof indirect, ", indirect %.1f", t.indirect);
     std::printf("frame %u: %.1f ms (primary %.1f, photons %.1f, tiles %.1f, candidates %.1f, "
-                "temporal %.1f, spatial %.1f, shading %.1f)%s%s\n",
+                "temporal %.1f, spatial %.1f, shading %.1f%s)%s%s\n",
                 frame, t.total, t.primary, t.photons, t.tiles, t.candidates, t.temporal, t.spatial,
-                t.shading, reference ? " rmse " : "", error.c_str());
+                t.shading, indirect, reference ? " rmse " : "", error.c_str());
     std::fflush(stdout);
     if (csv)
         csv << frame << ',' << error << ',' << frame_error << ',' << t.total << ',' << elapsed
             << ',' << t.primary << ',' << t.photons << ',' << t.candidates << ',' << t.temporal
             << ',' << t.spatial << ',' << t.shading << ',' << t.tiles << ',' << bias << ','
             << frame_bias << ',' << error_columns(renderer.accumulated(), reference) << ','
-            << glossy_columns(renderer, reference, previous_frame) << '\n';
+            << glossy_columns(renderer, reference, previous_frame) << ',' << t.indirect << '\n';
 }
 
 // --- The frames ------------------------------------------------------------------------------

@@ -115,11 +115,35 @@ glm::vec3 PathTracer::vpl_nee(const GSurface& s, restir::Pcg32& rng) const {
 
 glm::vec3 PathTracer::path_radiance(const GSurface& start, restir::Pcg32& rng, bool direct,
                                     bool bounce_further) const {
+    return radiance_from(start, rng, direct, bounce_further, 0u);
+}
+
+restir::PathSample PathTracer::path_sample(const GSurface& s, restir::Pcg32& rng) const {
+    restir::PathSample sample;
+    const restir::BsdfSample bounce = sample_bounce(s, rng);
+    if (!(bounce.pdf > 0.0f) || max_depth_ < 2u)
+        return sample;
+    const Hit hit = rays_.closest_hit_from(s.position, s.normal, bounce.wi, ray_offset_);
+    if (!hit.found)
+        return sample;
+    const GSurface next = surface_at(scene_, hit, bounce.wi);
+    sample.visible_point = s.position;
+    sample.sample_point = next.position;
+    sample.sample_normal = next.normal;
+    sample.radiance = radiance_from(next, rng, true, true, 1u);
+    sample.source_pdf = bounce.pdf;
+    sample.sample_roughness =
+        is_lambertian(next) ? 1.0f : static_cast<float>(next.roughness) * (1.0f / 65535.0f);
+    return sample;
+}
+
+glm::vec3 PathTracer::radiance_from(const GSurface& start, restir::Pcg32& rng, bool direct,
+                                    bool bounce_further, std::uint32_t first_depth) const {
     const TriangleEmitters& emitters = lights_.emitters();
     glm::vec3 radiance(0.0f);
     glm::vec3 throughput(1.0f);
     GSurface s = start;
-    for (std::uint32_t depth = 0;; ++depth) {
+    for (std::uint32_t depth = first_depth;; ++depth) {
         if (direct)
             radiance += throughput * emitter_nee(s, rng);
         if (direct && environment_nee_)

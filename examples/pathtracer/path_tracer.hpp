@@ -37,11 +37,20 @@ public:
     /// BSDF-sampled ray that leaves the scene sees the environment.
     glm::vec3 path_radiance(const GSurface& start, restir::Pcg32& rng, bool direct,
                             bool bounce_further) const;
+    /// A ReSTIR GI sample at `s` (--gi restir-gi): one bounce drawn from its BSDF, and Lo, the
+    /// radiance reflected towards `s` at the surface the bounce finds (its emission excluded),
+    /// estimated as `path_radiance` continues a path there: NEE of the emitters and the
+    /// environment, then BSDF sampling with Russian roulette, the bounce counted towards the
+    /// path length limit. No sample (source_pdf 0) where the bounce leaves the scene.
+    restir::PathSample path_sample(const GSurface& s, restir::Pcg32& rng) const;
     /// One VPL chosen by power, its light reflected at `s` by its BSDF (no MIS: VPLs are
     /// points). VPLs emit as diffuse surfaces whatever the material they lie on.
     glm::vec3 vpl_nee(const GSurface& s, restir::Pcg32& rng) const;
 
 private:
+    /// `path_radiance` from a vertex at depth `first_depth` of its path.
+    glm::vec3 radiance_from(const GSurface& start, restir::Pcg32& rng, bool direct,
+                            bool bounce_further, std::uint32_t first_depth) const;
     glm::vec3 emitter_nee(const GSurface& s, restir::Pcg32& rng) const;
     /// One direction from the environment's sampler, its light reflected at `s` if nothing
     /// blocks the way out, MIS-weighted (balance heuristic) against the BSDF's sampling.

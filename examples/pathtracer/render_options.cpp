@@ -95,11 +95,13 @@ void add_scene_options(CLI::App& app, RenderOptions& options) {
                                    {"reference", Method::reference}}))
         ->default_str("restir");
     app.add_option("--gi", settings.gi,
-                   "Indirect light: none, vpl (photon-mapped VPLs sampled with the emitters) or "
-                   "path (path-traced bounces)")
+                   "Indirect light: none, vpl (photon-mapped VPLs sampled with the emitters), "
+                   "path (path-traced bounces) or restir-gi (path samples reused over time and "
+                   "space with the reconnection shift; --method restir or reference)")
         ->transform(names<GlobalIllumination>({{"none", GlobalIllumination::none},
                                                {"vpl", GlobalIllumination::vpl},
-                                               {"path", GlobalIllumination::path}}))
+                                               {"path", GlobalIllumination::path},
+                                               {"restir-gi", GlobalIllumination::restir_gi}}))
         ->default_str("vpl");
     app.add_option("--spp", settings.spp, "Samples per pixel per frame (restir: 1)")
         ->check(CLI::Range(1u, 65536u));
@@ -293,8 +295,21 @@ void add_indirect_light_options(CLI::App& app, RenderSettings& settings,
     app.add_option("--attenuation-radius", settings.attenuation_radius,
                    "Yuksel attenuation radius of VPLs in scene units (0: 2 % of the scene size)")
         ->check(finite_number & CLI::Range(0.0f, 1e30f));
-    app.add_option("--max-depth", settings.max_depth, "Path length limit (reference, gi path)")
+    app.add_option("--max-depth", settings.max_depth,
+                   "Path length limit (reference, gi path and restir-gi)")
         ->check(CLI::Range(1u, 1024u));
+    app.add_option("--gi-history-cap", settings.gi_frame.temporal.history_cap_multiplier,
+                   "restir-gi: the history's M capped at this many times the current M (0: no "
+                   "cap)")
+        ->check(CLI::Range(0u, 1000u));
+    app.add_option("--gi-min-roughness", settings.reconnection.min_roughness,
+                   "restir-gi: the roughness a sample point needs to be reused at another "
+                   "visible point (Lambertian: 1; 0 reconnects every sample point, biased on "
+                   "glossy ones)")
+        ->check(finite_number & CLI::Range(0.0f, 1.0f));
+    app.add_flag("--indirect-only", settings.indirect_only,
+                 "Frames hold indirect light only (gi path or restir-gi, and the reference): "
+                 "to measure its error alone");
 }
 
 // The checks that involve several flags, and the memory estimate.
@@ -315,6 +330,13 @@ void check_consistent(const RenderOptions& options) {
     if (settings.packed_history && settings.light_points == LightPoints::solid_angle)
         fail("--packed-history decodes light points as area samples: use --light-points area "
              "with it");
+    if (settings.gi == GlobalIllumination::restir_gi && settings.method != Method::restir &&
+        settings.method != Method::reference)
+        fail("--gi restir-gi reuses path samples across frames: use --method restir (or "
+             "reference for its converged image)");
+    if (settings.indirect_only && settings.gi != GlobalIllumination::path &&
+        settings.gi != GlobalIllumination::restir_gi)
+        fail("--indirect-only keeps the indirect light of --gi path or restir-gi: give one");
     if (settings.environment_sampling == EnvironmentSampling::bsdf && settings.bsdf_candidates == 0)
         fail("--env-sampling bsdf finds the environment through BSDF candidates only: give "
              "--bsdf-candidates N");

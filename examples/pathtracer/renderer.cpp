@@ -11,6 +11,7 @@
 #include "pixel_blocks.hpp"
 #include "reservoir.hpp"
 #include "restir_di.hpp"
+#include "restir_gi.hpp"
 #include "timing.hpp"
 
 #include <tbb/task_arena.h>
@@ -39,6 +40,7 @@ struct Renderer::Impl {
     Camera camera, previous_camera;
     PathTracer paths;
     std::optional<RestirDi> restir; // --method restir
+    std::optional<RestirGi> gi;     // --method restir --gi restir-gi
     Accumulation accumulation;      // the last frame and the average
 
     // Builds the BVH, the emitters, the first VPL set and the frame buffers.
@@ -60,6 +62,8 @@ struct Renderer::Impl {
         if (settings.method == Method::restir)
             restir.emplace(settings, blocks, gbuffer, *candidates, light_set, paths, camera,
                            previous_camera);
+        if (settings.method == Method::restir && settings.gi == GlobalIllumination::restir_gi)
+            gi.emplace(settings, blocks, gbuffer, rays, paths, previous_camera, ray_offset);
     }
 
     // One uniformly chosen light sample as a one-candidate reservoir: W = 1 / p, so that
@@ -97,9 +101,11 @@ struct Renderer::Impl {
             t.photons = light_set.photon_ms();
         if (settings.motion == CameraMotion::orbit)
             orbit_camera(accumulation.frames());
-        if (settings.method == Method::restir)
+        if (settings.method == Method::restir) {
             restir->render(accumulation.frames(), !new_vpl_set, accumulation.frame(), t);
-        else
+            if (gi)
+                gi->render(accumulation.frames(), true, accumulation.frame(), t);
+        } else
             independent_frame(accumulation.frames(), t);
         accumulation.add_frame();
         t.total = milliseconds_since(frame_start);
@@ -187,7 +193,7 @@ struct Renderer::Impl {
                 accumulation.frame().pixels[i] +=
                     independent_radiance(s, picked[local(i)], rngs[local(i)]) /
                     static_cast<float>(settings.spp);
-            else // the environment in its direction (black without one)
+            else if (!settings.indirect_only) // the environment in its direction (or black)
                 accumulation.frame().pixels[i] +=
                     escaped_radiance(scene, s) / static_cast<float>(settings.spp);
         });
@@ -198,7 +204,10 @@ struct Renderer::Impl {
     // path's; plus the indirect light that --gi asks for.
     glm::vec3 independent_radiance(const GSurface& s, const Reservoir& picked,
                                    restir::Pcg32& rng) const {
-        const bool gi_path = settings.gi == GlobalIllumination::path;
+        const bool gi_path =
+            settings.gi == GlobalIllumination::path || settings.gi == GlobalIllumination::restir_gi;
+        if (settings.indirect_only)
+            return gi_path ? paths.path_radiance(s, rng, false, true) : glm::vec3(0.0f);
         glm::vec3 color = emitted(scene, s);
         if (settings.method == Method::reference) {
             color += paths.path_radiance(s, rng, true, gi_path);

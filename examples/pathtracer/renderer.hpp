@@ -22,7 +22,10 @@ enum class Method {
 enum class GlobalIllumination {
     none, ///< Direct light only.
     vpl,  ///< Direct light + VPLs (photons shot once), through one unified light set.
-    path  ///< Direct light + path-traced indirect light.
+    path, ///< Direct light + path-traced indirect light.
+    /// Direct light + ReSTIR GI: path samples reused with the reconnection shift (--method
+    /// restir; the reference renders the same integral as `path`).
+    restir_gi
 };
 /// Where RIS candidates come from: lights in proportion to their power (from light tiles), or
 /// uniformly (from light tiles), or by their importance at the pixel's surface (a light BVH,
@@ -88,7 +91,17 @@ struct RenderSettings {
     /// that the accumulated image converges to the path-traced answer, not to one set's.
     std::uint32_t vpl_reshoot_interval = 0;
     float attenuation_radius = 0.0f; ///< Yuksel radius for VPLs; 0: 2 % of the scene's size.
-    std::uint32_t max_depth = 8;     ///< Path length limit (reference, gi path).
+    std::uint32_t max_depth = 8;     ///< Path length limit (reference, gi path and restir-gi).
+    /// The ReSTIR GI frame (gi restir-gi): restir-render's ReSTIR frame with a history cap of 20
+    /// and no permutation sampling (docs/restir-gi.md), a spatial radius of 0 made 30 px per
+    /// 1080 rows as for ReSTIR DI.
+    restir::DiFrameParams gi_frame = default_gi_frame_settings();
+    /// The shift of ReSTIR GI's samples (its `min_roughness`: which sample points reconnect).
+    restir::ReconnectionShift reconnection{};
+    /// Frames hold indirect light only (gi path and restir-gi, and the reference): no
+    /// emission, no direct light, nothing where camera rays leave the scene. For measuring the
+    /// indirect light's error alone; the time still includes the direct light's frame.
+    bool indirect_only = false;
     /// The path tracer's next-event estimation of the environment, with MIS against BSDF
     /// sampling; false leaves the environment to BSDF-sampled rays alone (for tests: both
     /// estimate the same image).
@@ -110,6 +123,14 @@ struct RenderSettings {
         p.boiling.threshold = 0.0f;
         return p;
     }
+    /// ReSTIR GI's frame: `default_di_frame_settings` with a history cap of 20 and no
+    /// permutation sampling.
+    static restir::DiFrameParams default_gi_frame_settings() {
+        restir::DiFrameParams p = default_di_frame_settings();
+        p.temporal.history_cap_multiplier = 20;
+        p.temporal.permutation_sampling = false;
+        return p;
+    }
     /// The library's photon settings with up to 8 bounces.
     static restir::PhotonParams default_photon_settings() {
         restir::PhotonParams p = restir::default_photon_params();
@@ -119,10 +140,11 @@ struct RenderSettings {
 };
 
 /// Milliseconds per phase of one frame: `tiles` is the light-tile fill, `candidates` the
-/// initial RIS and its visibility ray (ris: RIS and shading are both in `shading`).
+/// initial RIS and its visibility ray (ris: RIS and shading are both in `shading`), `indirect`
+/// the whole ReSTIR GI frame (gi restir-gi).
 struct FrameTimings {
     double primary = 0, photons = 0, tiles = 0, candidates = 0, temporal = 0, spatial = 0,
-           shading = 0, total = 0;
+           shading = 0, indirect = 0, total = 0;
 };
 
 /// Peak memory a render with `settings` needs, in bytes, about: per pixel 384 bytes for ReSTIR

@@ -1,5 +1,6 @@
 #include "restir_di.hpp"
 
+#include "reprojection.hpp"
 #include "reservoir.hpp"
 #include "timing.hpp"
 
@@ -46,20 +47,6 @@ struct RestirDi::Stages {
         scratch.resize(pixels);
     }
 
-    // The previous camera's pixel of this frame's surface at `p` (temporal reuse).
-    struct CameraReprojection {
-        const Stages* im = nullptr;
-        restir::PixelCoord operator()(restir::PixelCoord p) const {
-            const GSurface& s =
-                im->gbuffer.surfaces()[static_cast<std::size_t>(p.x) +
-                                       static_cast<std::size_t>(p.y) * im->settings.width];
-            glm::vec2 q;
-            if (!im->previous_camera.project(s.position, q))
-                return {-1, -1};
-            return {static_cast<std::int32_t>(std::floor(q.x)),
-                    static_cast<std::int32_t>(std::floor(q.y))};
-        }
-    };
     // A stored light point back as the sample it was made from: every light of the renderer
     // (flat emitter triangles of one radiance, sampled by area; VPLs) has one normal, radiance
     // and pdf over its whole surface, so its id and the position determine the sample; the
@@ -100,7 +87,7 @@ struct RestirDi::Stages {
         Frame f{.params = di_frame_params(),
                 .frame_index = frame,
                 .surfaces = {gbuffer.surfaces().data(), w, h},
-                .reproject = {this}};
+                .reproject = {&gbuffer, &previous_camera, w}};
         if (history && frame > 0) {
             f.previous_surfaces = {gbuffer.previous_surfaces().data(), w, h};
             if constexpr (Frame::loads_history)
@@ -193,13 +180,15 @@ struct RestirDi::Stages {
 
     // A pixel's radiance: its emission, the reservoir's light where `visible`, and with --gi
     // path the path-traced indirect light; the environment where its camera ray left the scene.
+    // With --indirect-only, the path-traced indirect light alone (gi restir-gi adds its own).
     glm::vec3 radiance(std::uint32_t i, std::uint32_t frame_index, const Reservoir& r,
                        bool visible) const {
         const GSurface& s = gbuffer.surfaces()[i];
         if (!s.valid)
-            return escaped_radiance(gbuffer.scene(), s);
-        glm::vec3 color =
-            emitted(gbuffer.scene(), s) + (visible ? unshadowed(r, s) : glm::vec3(0.0f));
+            return settings.indirect_only ? glm::vec3(0.0f) : escaped_radiance(gbuffer.scene(), s);
+        glm::vec3 color(0.0f);
+        if (!settings.indirect_only)
+            color = emitted(gbuffer.scene(), s) + (visible ? unshadowed(r, s) : glm::vec3(0.0f));
         if (settings.gi == GlobalIllumination::path) {
             restir::Pcg32 rng =
                 restir::make_pixel_rng(i, frame_index, RenderStream::path, settings.seed);

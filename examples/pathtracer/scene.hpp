@@ -31,6 +31,9 @@ struct RenderStream {
     static constexpr std::uint32_t path = pixel_jitter + 3u;         ///< path-traced indirect light
     static constexpr std::uint32_t scene_layout = pixel_jitter + 4u; ///< many-light scene
     static constexpr std::uint32_t grid_jitter = pixel_jitter + 5u;  ///< --source grid lookups
+    /// The ReSTIR GI frame's streams (--gi restir-gi): this plus restir::RngStream's, apart
+    /// from the ReSTIR DI frame's.
+    static constexpr std::uint32_t restir_gi = 128u;
 };
 
 /// A material in the metallic-roughness form: a base colour, a dielectric specular lobe of

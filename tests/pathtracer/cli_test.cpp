@@ -284,7 +284,7 @@ TEST(Cli, CsvHasTheErrorMeasuresAndItsDirectoryIsMade) {
     for (const char* axis : {"acf_x", "acf_y"})
         for (int lag = 1; lag <= 8; ++lag)
             expected.append(",").append(axis).append(std::to_string(lag));
-    expected += ",mse_glossy,frame_mse_glossy,flicker,flicker_glossy";
+    expected += ",mse_glossy,frame_mse_glossy,flicker,flicker_glossy,indirect_ms";
     EXPECT_EQ(line, expected);
     int rows = 0;
     while (std::getline(lines, line)) {
