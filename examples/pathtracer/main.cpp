@@ -150,8 +150,8 @@ std::ofstream open_csv(const std::string& path) {
     if (!csv)
         fail("cannot write " + path);
     csv << "frame,rmse,frame_rmse,frame_ms,elapsed_ms,primary_ms,photons_ms,candidates_ms,"
-           "temporal_ms,spatial_ms,shading_ms,tiles_ms,bias,frame_bias,"
-        << error_header() << ',' << glossy_header << ",indirect_ms\n";
+           "temporal_ms,spatial_ms,shading_ms,tiles_ms,indirect_ms,bias,frame_bias,"
+        << error_header() << ',' << glossy_header << '\n';
     return csv;
 }
 
@@ -179,9 +179,9 @@ void report_frame(std::uint32_t frame, const pt::FrameTimings& t, double elapsed
     if (csv)
         csv << frame << ',' << error << ',' << frame_error << ',' << t.total << ',' << elapsed
             << ',' << t.primary << ',' << t.photons << ',' << t.candidates << ',' << t.temporal
-            << ',' << t.spatial << ',' << t.shading << ',' << t.tiles << ',' << bias << ','
-            << frame_bias << ',' << error_columns(renderer.accumulated(), reference) << ','
-            << glossy_columns(renderer, reference, previous_frame) << ',' << t.indirect << '\n';
+            << ',' << t.spatial << ',' << t.shading << ',' << t.tiles << ',' << t.indirect << ','
+            << bias << ',' << frame_bias << ',' << error_columns(renderer.accumulated(), reference)
+            << ',' << glossy_columns(renderer, reference, previous_frame) << '\n';
 }
 
 // --- The frames ------------------------------------------------------------------------------

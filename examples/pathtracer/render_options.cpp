@@ -298,10 +298,6 @@ void add_indirect_light_options(CLI::App& app, RenderSettings& settings,
     app.add_option("--max-depth", settings.max_depth,
                    "Path length limit (reference, gi path and restir-gi)")
         ->check(CLI::Range(1u, 1024u));
-    app.add_option("--gi-history-cap", settings.gi_frame.temporal.history_cap_multiplier,
-                   "restir-gi: the history's M capped at this many times the current M (0: no "
-                   "cap)")
-        ->check(CLI::Range(0u, 1000u));
     app.add_option("--gi-min-roughness", settings.reconnection.min_roughness,
                    "restir-gi: the roughness a sample point needs to be reused at another "
                    "visible point (Lambertian: 1; 0 reconnects every sample point, biased on "

@@ -82,6 +82,7 @@ struct RenderSettings {
     bool packed_history = false;
     /// The ReSTIR frame (restir::DiFrame), as restir-render's defaults have it; the boiling
     /// filter runs when `di_frame.boiling_filter` is set (restir-render: --boiling-filter > 0).
+    /// ReSTIR GI's frame (gi restir-gi) runs with the same settings.
     restir::DiFrameParams di_frame = default_di_frame_settings();
     std::uint32_t vpls = 100'000; ///< About this many VPLs (gi vpl).
     /// The photons of a VPL set: `max_bounces` and `seed` (the first set's; later sets follow
@@ -92,10 +93,6 @@ struct RenderSettings {
     std::uint32_t vpl_reshoot_interval = 0;
     float attenuation_radius = 0.0f; ///< Yuksel radius for VPLs; 0: 2 % of the scene's size.
     std::uint32_t max_depth = 8;     ///< Path length limit (reference, gi path and restir-gi).
-    /// The ReSTIR GI frame (gi restir-gi): restir-render's ReSTIR frame with a history cap of 20
-    /// and no permutation sampling (docs/restir-gi.md), a spatial radius of 0 made 30 px per
-    /// 1080 rows as for ReSTIR DI.
-    restir::DiFrameParams gi_frame = default_gi_frame_settings();
     /// The shift of ReSTIR GI's samples (its `min_roughness`: which sample points reconnect).
     restir::ReconnectionShift reconnection{};
     /// Frames hold indirect light only (gi path and restir-gi, and the reference): no
@@ -121,14 +118,6 @@ struct RenderSettings {
         p.temporal.history_cap_multiplier = 4;
         p.temporal.permutation_sampling = true;
         p.boiling.threshold = 0.0f;
-        return p;
-    }
-    /// ReSTIR GI's frame: `default_di_frame_settings` with a history cap of 20 and no
-    /// permutation sampling.
-    static restir::DiFrameParams default_gi_frame_settings() {
-        restir::DiFrameParams p = default_di_frame_settings();
-        p.temporal.history_cap_multiplier = 20;
-        p.temporal.permutation_sampling = false;
         return p;
     }
     /// The library's photon settings with up to 8 bounces.

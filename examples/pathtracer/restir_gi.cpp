@@ -56,9 +56,10 @@ struct RestirGi::Stages {
         scratch.resize(pixels);
     }
 
-    // The settings' recipe, a spatial radius of 0 made 30 px per 1080 rows (at least 3).
+    // The settings' recipe (ReSTIR DI's), a spatial radius of 0 made 30 px per 1080 rows (at
+    // least 3).
     restir::DiFrameParams frame_params() const {
-        restir::DiFrameParams p = settings.gi_frame;
+        restir::DiFrameParams p = settings.di_frame;
         if (!(p.spatial.radius > 0.0f))
             p.spatial.radius =
                 std::max(3.0f, 30.0f * static_cast<float>(settings.height) / 1080.0f);

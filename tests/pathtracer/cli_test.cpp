@@ -101,7 +101,9 @@ TEST(Cli, HelpDocumentsEveryFlagWithItsDefault) {
                              "--max-memory",
                              "--env",
                              "--env-scale",
-                             "--env-rotate"})
+                             "--env-rotate",
+                             "--indirect-only",
+                             "--gi-min-roughness"})
         EXPECT_NE(r.out.find(flag), std::string::npos) << flag;
     EXPECT_NE(r.out.find("restir"), std::string::npos);
     EXPECT_NE(r.out.find("cornell-glossy"), std::string::npos);
@@ -119,6 +121,9 @@ TEST(Cli, BadInputIsOneLineAndStatusTwo) {
     expect_one_line_error(small("--source grid --grid-cells 257"), "grid-cells");
     expect_one_line_error(small("--look-from 1,2"), "look-from");
     expect_one_line_error(small("--method restir --spp 4"), "--frames");
+    expect_one_line_error(small("--method ris --gi restir-gi"), "--method restir");
+    expect_one_line_error(small("--gi vpl --indirect-only"), "--indirect-only");
+    expect_one_line_error(small("--gi restir-gi --gi-min-roughness 2"), "gi-min-roughness");
     expect_one_line_error(small("--scene " + (dir / "missing.obj").string()), "missing.obj");
 
     std::ofstream(dir / "broken.obj") << "v 0 0 0\nf 1 2 3\n";
@@ -278,13 +283,14 @@ TEST(Cli, CsvHasTheErrorMeasuresAndItsDirectoryIsMade) {
     std::string line;
     std::getline(lines, line);
     const std::vector<std::string> header = split(line);
-    std::string expected = "frame,rmse,frame_rmse,frame_ms,elapsed_ms,primary_ms,photons_ms,"
-                           "candidates_ms,temporal_ms,spatial_ms,shading_ms,tiles_ms,bias,"
-                           "frame_bias,rel_mse,fireflies,p999,row_ratio,column_ratio";
+    std::string expected =
+        "frame,rmse,frame_rmse,frame_ms,elapsed_ms,primary_ms,photons_ms,"
+        "candidates_ms,temporal_ms,spatial_ms,shading_ms,tiles_ms,indirect_ms,bias,"
+        "frame_bias,rel_mse,fireflies,p999,row_ratio,column_ratio";
     for (const char* axis : {"acf_x", "acf_y"})
         for (int lag = 1; lag <= 8; ++lag)
             expected.append(",").append(axis).append(std::to_string(lag));
-    expected += ",mse_glossy,frame_mse_glossy,flicker,flicker_glossy,indirect_ms";
+    expected += ",mse_glossy,frame_mse_glossy,flicker,flicker_glossy";
     EXPECT_EQ(line, expected);
     int rows = 0;
     while (std::getline(lines, line)) {
@@ -417,6 +423,17 @@ TEST(Cli, RendersTheSunSkyScene) {
         EXPECT_EQ(r.status, 0) << method << "\n" << r.err;
         EXPECT_NE(r.out.find("scene sun-sky:"), std::string::npos) << r.out;
         EXPECT_NE(r.out.find("environment sun-sky 2048x1024"), std::string::npos) << r.out;
+    }
+}
+
+// ReSTIR GI renders in every scene, under a turning camera too, and reports its phase.
+TEST(Cli, RendersRestirGi) {
+    for (const char* scene : {"cornell", "cornell-glossy", "sun-sky"}) {
+        const Outcome r = run(std::string("--width 12 --height 8 --frames 3 --gi restir-gi ") +
+                              "--camera-motion orbit --scene " + scene + " --out " +
+                              (scratch_dir() / "gi.png").string());
+        EXPECT_EQ(r.status, 0) << scene << "\n" << r.err;
+        EXPECT_NE(r.out.find(", indirect "), std::string::npos) << r.out;
     }
 }
 

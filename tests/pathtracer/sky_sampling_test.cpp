@@ -6,6 +6,7 @@
 #include "renderer.hpp"
 #include "scene.hpp"
 
+#include "pathtracer/image_sums.hpp"
 #include "support/statistics.hpp"
 
 #include <gtest/gtest.h>
@@ -47,17 +48,6 @@ pt::RenderSettings small(const pt::Scene& scene) {
     return s;
 }
 
-// Sum of the pixels of the image after `frames` frames.
-double brightness(const pt::Scene& scene, const pt::RenderSettings& s, std::uint32_t frames) {
-    pt::Renderer renderer(scene, s);
-    for (std::uint32_t f = 0; f < frames; ++f)
-        renderer.render_frame();
-    double sum = 0.0;
-    for (const glm::vec3& p : renderer.accumulated().pixels)
-        sum += static_cast<double>(p.x + p.y + p.z);
-    return sum;
-}
-
 struct SkySetup {
     std::string name;
     Method method;
@@ -87,7 +77,7 @@ void expect_agreement(const pt::Scene& scene, const std::vector<SkySetup>& setup
             s.packed_history = setups[k].packed_history;
             s.environment_share = setups[k].environment_share;
             s.seed = seed;
-            stats[k].add(brightness(scene, s, 4));
+            stats[k].add(pt::test::brightness(scene, s, 4));
         }
     EXPECT_GT(stats[0].mean(), 0.0);
     for (std::size_t k = 1; k < setups.size(); ++k) {
