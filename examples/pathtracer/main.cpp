@@ -216,13 +216,16 @@ void write_outputs(const pt::Renderer& renderer, const pt::RenderOptions& option
     const float exposure = options.exposure ? *options.exposure : pt::auto_exposure(image);
     for (const std::string& out : options.outs)
         pt::write_image(out, image, exposure);
+    for (const std::string& out : options.frame_outs)
+        pt::write_image(out, renderer.last_frame(), exposure);
     if (is_black(image))
         std::cerr << "restir-render: warning: the image is black: does the camera see the "
                      "lit scene (--look-from, --look-at)?\n";
     std::printf("pixels with a surface: %zu of %zu\n", renderer.surface_pixel_count(),
                 image.pixels.size());
-    for (const std::string& out : options.outs)
-        std::printf("wrote %s (exposure %.2f)\n", out.c_str(), static_cast<double>(exposure));
+    for (const auto* outs : {&options.outs, &options.frame_outs})
+        for (const std::string& out : *outs)
+            std::printf("wrote %s (exposure %.2f)\n", out.c_str(), static_cast<double>(exposure));
 }
 
 // ", environment NAME WxH" for a scene with an environment, else nothing.
@@ -240,8 +243,9 @@ void run(pt::RenderOptions& options) {
     pt::RenderSettings& settings = options.settings;
     const pt::Scene scene = pt::load_scene(options);
     settings.camera = camera_of(scene, options);
-    for (const std::string& out : options.outs)
-        pt::check_output_format(out); // before the render, not after it
+    for (const auto* outs : {&options.outs, &options.frame_outs})
+        for (const std::string& out : *outs)
+            pt::check_output_format(out); // before the render, not after it
     const std::optional<pt::Image> reference = read_reference(options);
     std::ofstream csv = open_csv(options.csv);
 

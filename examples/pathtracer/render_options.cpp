@@ -174,6 +174,10 @@ void add_output_options(CLI::App& app, RenderOptions& options) {
                    "Output image(s): .png (tone-mapped), .exr or .pfm (linear); repeat the flag "
                    "for several")
         ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+    app.add_option("--out-frame", options.frame_outs,
+                   "Image(s) of the last frame alone, as a real-time viewer sees it (.png, .exr "
+                   "or .pfm; --out's exposure)")
+        ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
     app.add_option("--exposure", options.exposure,
                    "PNG exposure in stops (default: automatic, average luminance to 0.18)")
         ->check(finite_number);

@@ -27,6 +27,8 @@ struct RenderOptions {
     std::optional<float> fov;
     std::uint32_t frames = 16;
     std::vector<std::string> outs{"out/render.png"};
+    /// Images of the last frame alone (--out-frame), written as --out's are.
+    std::vector<std::string> frame_outs;
     std::optional<float> exposure;
     std::string reference;
     std::string csv;

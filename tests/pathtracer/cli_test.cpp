@@ -103,6 +103,7 @@ TEST(Cli, HelpDocumentsEveryFlagWithItsDefault) {
                              "--env-scale",
                              "--env-rotate",
                              "--indirect-only",
+                             "--out-frame",
                              "--gi-min-roughness"})
         EXPECT_NE(r.out.find(flag), std::string::npos) << flag;
     EXPECT_NE(r.out.find("restir"), std::string::npos);
@@ -426,14 +427,19 @@ TEST(Cli, RendersTheSunSkyScene) {
     }
 }
 
-// ReSTIR GI renders in every scene, under a turning camera too, and reports its phase.
+// ReSTIR GI renders in every scene, under a turning camera too, reports its phase and writes its
+// last frame alone.
 TEST(Cli, RendersRestirGi) {
+    const fs::path frame = scratch_dir() / "gi-frame.pfm";
     for (const char* scene : {"cornell", "cornell-glossy", "sun-sky"}) {
-        const Outcome r = run(std::string("--width 12 --height 8 --frames 3 --gi restir-gi ") +
-                              "--camera-motion orbit --scene " + scene + " --out " +
-                              (scratch_dir() / "gi.png").string());
+        fs::remove(frame);
+        const Outcome r =
+            run(std::string("--width 12 --height 8 --frames 3 --gi restir-gi ") +
+                "--camera-motion orbit --scene " + scene + " --out " +
+                (scratch_dir() / "gi.png").string() + " --out-frame " + frame.string());
         EXPECT_EQ(r.status, 0) << scene << "\n" << r.err;
         EXPECT_NE(r.out.find(", indirect "), std::string::npos) << r.out;
+        EXPECT_TRUE(fs::exists(frame)) << scene;
     }
 }
 
