@@ -188,6 +188,63 @@ __global__ void bvh_kernel(restir::LightBvhView bvh, std::uint32_t pixels, BvhRe
         out[pixel] = bvh_pixel(pixel, bvh);
 }
 
+// ReSTIR GI: a 64 x 64 floor of Lambertian points whose reservoirs hold path samples on a quad
+// above it (some glossy, which the reconnection shift refuses to move, some above a ceiling
+// that hides them), reused spatially through the reconnection shift with traced visibility,
+// on the GPU and the CPU. A sample's origin pixel, plus one, rides in its source pdf.
+struct GiPoint {
+    glm::vec3 position;
+    glm::vec3 albedo;
+};
+RESTIR_HOST_DEVICE glm::vec3 surface_position(const GiPoint& p) { return p.position; }
+RESTIR_HOST_DEVICE glm::vec3 surface_normal(const GiPoint&) { return {0.0f, 1.0f, 0.0f}; }
+RESTIR_HOST_DEVICE float surface_depth(const GiPoint&) { return 1.0f; }
+RESTIR_HOST_DEVICE bool is_valid_surface(const GiPoint&) { return true; }
+
+struct GiTarget {
+    RESTIR_HOST_DEVICE float operator()(const restir::PathSample& x, const GiPoint& p) const {
+        const restir::LambertianReceiver receiver{p.position, surface_normal(p), p.albedo};
+        return restir::fold_channels<restir::ChannelNorm::sum>(
+            restir::path_sample_radiance(x, receiver));
+    }
+};
+
+struct BlockedAbove {
+    float ceiling;
+    RESTIR_HOST_DEVICE bool occluded(glm::vec3, glm::vec3 to) const { return to.y > ceiling; }
+};
+
+RESTIR_HOST_DEVICE PixelResult
+gi_reuse_pixel(std::uint32_t pixel, const restir::Reservoir<restir::PathSample>* reservoirs,
+               const GiPoint* points, restir::BiasCorrection mode) {
+    const restir::ImageView<const restir::Reservoir<restir::PathSample>> view{
+        reservoirs, image_side, image_side};
+    const restir::ImageView<const GiPoint> surfaces{points, image_side, image_side};
+    restir::SpatialParams params = restir::default_spatial_params();
+    params.radius = 5.0f;
+    params.neighbour_count = 4u;
+    const BlockedAbove query{1.4f};
+    const restir::ReuseBridge bridge{GiTarget{},
+                                     restir::ReconnectionVisibility<BlockedAbove>{&query, 1e-4f},
+                                     restir::AnyMaterial{}, restir::ReconnectionShift{}};
+    restir::Pcg32 rng = restir::make_pixel_rng(pixel, 6u, 2u, 2024u);
+    const restir::PixelCoord p{static_cast<std::int32_t>(pixel % image_side),
+                               static_cast<std::int32_t>(pixel / image_side)};
+    const auto r = restir::spatial_resample(
+        p, view, surfaces, params, restir::ReuseParams{mode, restir::ReuseVisibility::traced},
+        bridge, rng);
+    return {r.has_sample() ? static_cast<std::uint32_t>(r.sample.source_pdf) : 0u,
+            r.contribution_weight, r.candidate_count};
+}
+
+__global__ void gi_reuse_kernel(const restir::Reservoir<restir::PathSample>* reservoirs,
+                                const GiPoint* points, restir::BiasCorrection mode,
+                                PixelResult* out) {
+    const std::uint32_t pixel = blockIdx.x * blockDim.x + threadIdx.x;
+    if (pixel < image_side * image_side)
+        out[pixel] = gi_reuse_pixel(pixel, reservoirs, points, mode);
+}
+
 // Compares GPU results with the same function run on the CPU; returns the mismatch count.
 template <class CpuResult>
 std::uint32_t compare(const char* name, const std::vector<PixelResult>& gpu, CpuResult&& cpu_at) {
@@ -289,6 +346,48 @@ int main() {
             [&](std::uint32_t p) {
                 return reuse_pixel(p, light_x.data(), reservoirs.data(), points.data(), pairwise);
             });
+    }
+
+    // ReSTIR GI: path samples reused through the reconnection shift, every bias correction.
+    std::vector<GiPoint> gi_points(image_pixels);
+    std::vector<restir::Reservoir<restir::PathSample>> gi_reservoirs(image_pixels);
+    for (std::uint32_t p = 0; p < image_pixels; ++p) {
+        restir::Pcg32 rng = restir::make_pixel_rng(p, 6u, 1u, 2024u);
+        gi_points[p] = {glm::vec3(static_cast<float>(p % image_side) / 32.0f - 1.0f, 0.0f,
+                                  static_cast<float>(p / image_side) / 32.0f - 1.0f),
+                        glm::vec3(0.3f + 0.5f * next_float(rng), 0.6f, 0.4f)};
+        restir::Reservoir<restir::PathSample>& r = gi_reservoirs[p];
+        r.candidate_count = 1u + restir::uniform_index(next_float(rng), 4u);
+        if (p % 11u == 0u)
+            continue; // the bounce found nothing
+        restir::PathSample& x = r.sample;
+        x.visible_point = gi_points[p].position;
+        x.sample_point = glm::vec3(4.0f * next_float(rng) - 2.0f, p % 5u == 0u ? 1.5f : 1.0f,
+                                   4.0f * next_float(rng) - 2.0f);
+        x.sample_normal = glm::vec3(0.0f, -1.0f, 0.0f);
+        x.radiance = glm::vec3(next_float(rng), next_float(rng), 1.0f);
+        x.source_pdf = static_cast<float>(p + 1u);
+        x.sample_roughness = p % 7u == 0u ? 0.3f : 1.0f;
+        r.target_value = GiTarget{}(x, gi_points[p]);
+        r.contribution_weight = 0.5f + next_float(rng);
+        r.weight_sum =
+            r.contribution_weight * r.target_value * static_cast<float>(r.candidate_count);
+    }
+    const restir::Reservoir<restir::PathSample>* device_gi_reservoirs = upload(gi_reservoirs);
+    const GiPoint* device_gi_points = upload(gi_points);
+    for (const restir::BiasCorrection mode :
+         {restir::BiasCorrection::none, restir::BiasCorrection::one_over_z,
+          restir::BiasCorrection::balance_heuristic, restir::BiasCorrection::pairwise}) {
+        const char* names[] = {"GI reuse, 1/M", "GI reuse, 1/Z", "GI reuse, balance heuristic",
+                               "GI reuse, pairwise"};
+        std::vector<PixelResult> reused(image_pixels);
+        gi_reuse_kernel<<<(image_pixels + 127) / 128, 128>>>(device_gi_reservoirs, device_gi_points,
+                                                             mode, device_out);
+        if (!download(reused, device_out))
+            return 1;
+        mismatches += compare(names[static_cast<int>(mode)], reused, [&](std::uint32_t p) {
+            return gi_reuse_pixel(p, gi_reservoirs.data(), gi_points.data(), mode);
+        });
     }
 
     // Light BVH over 4096 point lights above the unit square, facing down or isotropic.

@@ -284,6 +284,61 @@ __global__ void reuse_kernel(const glm::vec3* light_positions, const GBufferTexe
         restir::boiling_filter({x, y}, history, restir::default_boiling_filter_params());
 }
 
+// ReSTIR GI on the device: spatial reuse of path samples through the reconnection shift (the
+// neighbours streamed), p-hat from the path sample's contribution at a Lambertian texel, the
+// reconnections' visibility traced through a device ray query, under the mode chosen at run
+// time.
+struct GiTexel {
+    glm::vec3 position;
+    glm::vec3 normal;
+    glm::vec3 albedo;
+    float depth;
+};
+RESTIR_HOST_DEVICE glm::vec3 surface_position(const GiTexel& t) { return t.position; }
+RESTIR_HOST_DEVICE glm::vec3 surface_normal(const GiTexel& t) { return t.normal; }
+RESTIR_HOST_DEVICE float surface_depth(const GiTexel& t) { return t.depth; }
+RESTIR_HOST_DEVICE bool is_valid_surface(const GiTexel& t) { return t.depth > 0.0f; }
+
+struct GiTarget {
+    RESTIR_HOST_DEVICE float operator()(const restir::PathSample& x, const GiTexel& t) const {
+        const restir::LambertianReceiver receiver{t.position, t.normal, t.albedo};
+        return restir::fold_channels<restir::ChannelNorm::sum>(
+            restir::path_sample_radiance(x, receiver));
+    }
+};
+
+// Blocks every segment that rises above a ceiling (a stand-in for the renderer's ray query).
+struct CeilingQuery {
+    float ceiling;
+    RESTIR_HOST_DEVICE bool occluded(glm::vec3 from, glm::vec3 to) const {
+        return from.y > ceiling || to.y > ceiling;
+    }
+};
+
+__global__ void gi_reuse_kernel(const GiTexel* texels,
+                                const restir::Reservoir<restir::PathSample>* reservoirs,
+                                restir::Reservoir<restir::PathSample>* spatial_out,
+                                restir::PackedPathSample* packed_out, std::uint32_t width,
+                                std::uint32_t height, float ceiling, restir::ReuseParams reuse) {
+    const auto x = static_cast<std::int32_t>(blockIdx.x * blockDim.x + threadIdx.x);
+    const auto y = static_cast<std::int32_t>(blockIdx.y * blockDim.y + threadIdx.y);
+    const restir::ImageView<const GiTexel> surfaces{texels, width, height};
+    const restir::ImageView<const restir::Reservoir<restir::PathSample>> input{reservoirs, width,
+                                                                               height};
+    if (!surfaces.contains({x, y}))
+        return;
+    const std::uint32_t index = surfaces.index_of({x, y});
+    restir::Pcg32 rng = restir::make_pixel_rng(index, 1u, restir::RngStream::spatial);
+    const CeilingQuery query{ceiling};
+    const restir::ReuseBridge bridge{GiTarget{},
+                                     restir::ReconnectionVisibility<CeilingQuery>{&query, 1e-3f},
+                                     restir::AnyMaterial{}, restir::ReconnectionShift{}};
+    const restir::Reservoir<restir::PathSample> result = restir::spatial_resample(
+        {x, y}, input, surfaces, restir::default_spatial_params(), reuse, bridge, rng);
+    spatial_out[index] = result;
+    packed_out[index] = restir::pack_path_sample(result.sample);
+}
+
 // The frame recipe as a GPU renderer runs it: one kernel per stage, the frame by value.
 using RecipeFrame = restir::DiFrame<restir::LightSampleRef, GBufferTexel, StaticCamera>;
 using RecipeReservoir = restir::Reservoir<restir::LightSampleRef>;

@@ -53,8 +53,9 @@ RESTIR_HOST_DEVICE glm::vec3 path_sample_radiance(const PathSample& x, const R& 
 }
 
 /// A `PathSample` in storage form: both points exactly, the normal in 32 bits (octahedral, 16
-/// bits a coordinate: within 3e-5 rad), Lo in 32 bits (shared exponent, 9-bit mantissas: 2^-9
-/// of the largest channel, up to 65408), the source pdf exactly and the roughness in 16 bits.
+/// bits a coordinate: within 6.5e-5 rad, the worst case at the octahedron's face centres), Lo in
+/// 32 bits (shared exponent, 9-bit mantissas: within half a unit, at most 1/511.5 of the largest
+/// channel, up to 65408), the source pdf exactly and the roughness in 16 bits.
 struct PackedPathSample {
     glm::vec3 visible_point{0.0f};
     glm::vec3 sample_point{0.0f};
