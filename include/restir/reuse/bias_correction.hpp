@@ -106,23 +106,24 @@ ReuseBridge(Target, Visibility, MaterialTest, Shift)
 
 namespace detail {
 
-/// Input j's reservoir as the receiver takes it in: its sample shifted to the receiver, W times
-/// the shift's Jacobian (so that merging weighs it with p-hat_q(T(x)) W |dT/dx|, Lin et al.
-/// 2022, Eq. 3.4), and p-hat_q(T(x)). A copy, made only under a shift other than the identity.
-template <class Sample>
-struct ShiftedInput {
-    Reservoir<Sample> reservoir;
-    float target = 0.0f;   ///< p-hat_q(T(x)), 0 where the shift fails.
+/// What an input lends under a shift other than the identity: its reservoir with the sample
+/// shifted to the receiver and W times the shift's Jacobian, so that merging weighs it with
+/// p-hat_q(T(x)) W |dT/dx| (Lin et al. 2022, Eq. 3.4); the reservoir itself until
+/// `ReuseTerms::lend` has shifted it (an input without a sample is merged as it is, with weight 0).
+template <class Sample, bool Shifts>
+struct LentInput {
+    Reservoir<Sample> shifted{};
     float jacobian = 0.0f; ///< |dT/dx|, 0 where the shift fails.
-    RESTIR_HOST_DEVICE const Reservoir<Sample>& lent() const { return reservoir; }
+    bool is_shifted = false;
+    RESTIR_HOST_DEVICE const Reservoir<Sample>& of(const Reservoir<Sample>& r) const {
+        return is_shifted ? shifted : r;
+    }
 };
-/// The same under the identity shift: the reservoir in place, Jacobian 1.
+/// Under the identity: the reservoir as it is, Jacobian 1 (nothing stored).
 template <class Sample>
-struct UnshiftedInput {
-    const Reservoir<Sample>* reservoir;
-    float target = 0.0f; ///< p-hat_q(x).
+struct LentInput<Sample, false> {
     static constexpr float jacobian = 1.0f;
-    RESTIR_HOST_DEVICE const Reservoir<Sample>& lent() const { return *reservoir; }
+    RESTIR_HOST_DEVICE const Reservoir<Sample>& of(const Reservoir<Sample>& r) const { return r; }
 };
 
 /// What every bias correction evaluates: p-hat at the receiver, and p-hat_j(x) of input j as
@@ -140,24 +141,24 @@ struct ReuseTerms {
     RESTIR_HOST_DEVICE float here(const Sample& x) const {
         return static_cast<float>(bridge.target(x, surface));
     }
-    /// Input j's reservoir `r`, lent from surface `there`, as the receiver takes it in
-    /// (`ShiftedInput`); without a shift, `r` itself and p-hat_q of its sample. Target 0 for a
-    /// reservoir without a sample (nothing is evaluated).
-    RESTIR_HOST_DEVICE auto lend(const Reservoir<Sample>& r, const S& there) const {
+    /// What input j lends (`LentInput`).
+    using Lent = LentInput<Sample, shifts>;
+
+    /// p-hat_q of the sample of input j's reservoir `r` (which holds one), lent from surface
+    /// `there`: under a shift p-hat_q(T(x)), 0 where T fails, with `lent` holding the shifted
+    /// reservoir and the Jacobian; without one p-hat_q(x).
+    RESTIR_HOST_DEVICE float lend(Lent& lent, const Reservoir<Sample>& r, const S& there) const {
         if constexpr (shifts) {
-            ShiftedInput<Sample> in{r, 0.0f, 0.0f};
-            if (!r.has_sample())
-                return in;
             const ShiftedSample<Sample> y = bridge.shift(r.sample, there, surface);
-            in.reservoir.sample = y.sample;
-            if (is_valid_weight(y.jacobian) && y.jacobian > 0.0f) {
-                in.target = here(y.sample);
-                in.jacobian = y.jacobian;
-            }
-            in.reservoir.contribution_weight *= in.jacobian; // never enters where T fails
-            return in;
+            lent.shifted = r;
+            lent.shifted.sample = y.sample;
+            lent.is_shifted = true;
+            const bool shifted = is_valid_weight(y.jacobian) && y.jacobian > 0.0f;
+            lent.jacobian = shifted ? y.jacobian : 0.0f;
+            lent.shifted.contribution_weight *= lent.jacobian; // never enters where T fails
+            return shifted ? here(y.sample) : 0.0f;
         } else {
-            return UnshiftedInput<Sample>{&r, r.has_sample() ? here(r.sample) : 0.0f};
+            return here(r.sample);
         }
     }
     /// p-hat_j(x) at input j's surface, times the visibility there under visibility reuse,
@@ -279,12 +280,9 @@ RESTIR_HOST_DEVICE Reservoir<Sample> merge_inputs(const Reservoir<Sample>& canon
     for_each_input<Sample, S>(
         inputs, [&](std::uint32_t, const Reservoir<Sample>& r, const S& there) {
             const bool lends = r.has_sample() && (!only_own_support || terms.own(r, there) > 0.0f);
-            if (lends) {
-                const auto in = terms.lend(r, there);
-                result.merge(in.lent(), in.target, next_float(rng));
-            } else {
-                result.merge(r, 0.0f, next_float(rng));
-            }
+            typename Terms::Lent lent;
+            const float here = lends ? terms.lend(lent, r, there) : 0.0f;
+            result.merge(lent.of(r), here, next_float(rng));
         });
     return result;
 }
@@ -377,21 +375,23 @@ combine_balance_heuristic(const Reservoir<Sample>& canonical, const S& surface,
     result.merge_with_mis(canonical, canonical.target_value, canonical_mis, next_float(rng));
     detail::for_each_input<Sample, S>(inputs, [&](std::uint32_t i, const Reservoir<Sample>& r,
                                                   const S& there) {
-        const auto in = terms.lend(r, there);
+        typename decltype(terms)::Lent lent;
+        float here = 0.0f;
         float mis_weight = 0.0f;
         if (r.has_sample()) {
-            const Sums sums = neighbour_sums(in.lent().sample, i);
+            here = terms.lend(lent, r, there);
+            const Sums sums = neighbour_sums(lent.of(r).sample, i);
             if constexpr (decltype(terms)::shifts)
                 // y = T(y_i): m_i = M_i p-hat_i(y_i) / (M_i p-hat_i(y_i) + |dT/dy_i| (M_c
                 // p-hat_q(y) + sum_{l != i} M_l p-hat_l(T_l(y)) |dT_l/dy|)), the balance
                 // heuristic over the targets carried to the receiver (Lin et al. 2022,
                 // Eq. 5.10), numerator and denominator times |dT/dy_i|.
                 mis_weight = safe_divide(
-                    sums.own, sums.own + in.jacobian * (canonical_count * in.target + sums.others));
+                    sums.own, sums.own + lent.jacobian * (canonical_count * here + sums.others));
             else
-                mis_weight = safe_divide(sums.own, canonical_count * in.target + sums.all);
+                mis_weight = safe_divide(sums.own, canonical_count * here + sums.all);
         }
-        result.merge_with_mis(in.lent(), in.target, mis_weight, next_float(rng));
+        result.merge_with_mis(lent.of(r), here, mis_weight, next_float(rng));
     });
     result.finalize_normalized(1.0f);
     return result;
@@ -428,16 +428,18 @@ combine_pairwise(const Reservoir<Sample>& canonical, const S& surface, const Inp
                                                   const S& there) {
         const float count = static_cast<float>(r.candidate_count);
         const float pair_weight = safe_divide(count + canonical_share, total_count);
-        const auto in = terms.lend(r, there);
+        typename decltype(terms)::Lent lent;
+        float here = 0.0f;
         float mis_weight = 0.0f;
         if (r.has_sample()) {
+            here = terms.lend(lent, r, there);
             // Under a shift, the canonical technique's density carried to input i's domain is
             // p-hat_q(T(y_i)) |dT/dy_i| (Lin et al. 2022, Eq. 5.10).
             const float own = count * terms.own(r, there);
             mis_weight =
-                pair_weight * safe_divide(own, own + canonical_share * in.target * in.jacobian);
+                pair_weight * safe_divide(own, own + canonical_share * here * lent.jacobian);
         }
-        result.merge_with_mis(in.lent(), in.target, mis_weight, next_float(rng));
+        result.merge_with_mis(lent.of(r), here, mis_weight, next_float(rng));
         if (canonical.has_sample()) {
             const float canonical_own = canonical_share * canonical.target_value;
             canonical_mis += pair_weight *
