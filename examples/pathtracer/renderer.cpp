@@ -222,6 +222,13 @@ struct Renderer::Impl {
     }
 };
 
+restir::DiFrameParams frame_params(const RenderSettings& settings) {
+    restir::DiFrameParams p = settings.di_frame;
+    if (!(p.spatial.radius > 0.0f))
+        p.spatial.radius = std::max(3.0f, 30.0f * static_cast<float>(settings.height) / 1080.0f);
+    return p;
+}
+
 std::uint64_t estimated_memory_bytes(const RenderSettings& settings, bool with_reference) {
     const std::uint64_t pixels = std::uint64_t{settings.width} * settings.height;
     // The two G-buffers hold 2 x 96 bytes of GSurface a pixel (80 more since it carries wo and

@@ -136,6 +136,10 @@ struct FrameTimings {
            shading = 0, indirect = 0, total = 0;
 };
 
+/// The ReSTIR frame of `settings` (ReSTIR DI's and ReSTIR GI's) at its image's size: a spatial
+/// radius of 0 made 30 px per 1080 rows (the paper's 30 at 1080p), at least 3.
+restir::DiFrameParams frame_params(const RenderSettings& settings);
+
 /// Peak memory a render with `settings` needs, in bytes, about: per pixel 384 bytes for ReSTIR
 /// (G-buffers of two frames, three reservoir buffers, the images) and 192 for the other methods,
 /// 48 more per pixel with a reference (the reference image and the error measures), 96 per

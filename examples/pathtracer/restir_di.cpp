@@ -71,20 +71,12 @@ struct RestirDi::Stages {
     using PackedDiFrame = restir::DiFrame<restir::LightPointSample, GSurface, CameraReprojection,
                                           restir::PackedPointHistory<LightPointDecoder>>;
 
-    // The settings' recipe, a spatial radius of 0 made 30 px per 1080 rows (at least 3).
-    restir::DiFrameParams di_frame_params() const {
-        restir::DiFrameParams p = settings.di_frame;
-        if (!(p.spatial.radius > 0.0f))
-            p.spatial.radius =
-                std::max(3.0f, 30.0f * static_cast<float>(settings.height) / 1080.0f);
-        return p;
-    }
     // This frame's recipe; `history` false after a new VPL set (last frame's samples belong to
     // another integrand) and in frame 0.
     template <class Frame>
     Frame di_frame(std::uint32_t frame, bool history) const {
         const std::uint32_t w = settings.width, h = settings.height;
-        Frame f{.params = di_frame_params(),
+        Frame f{.params = frame_params(settings),
                 .frame_index = frame,
                 .surfaces = {gbuffer.surfaces().data(), w, h},
                 .reproject = {&gbuffer, &previous_camera, w}};

@@ -56,19 +56,9 @@ struct RestirGi::Stages {
         scratch.resize(pixels);
     }
 
-    // The settings' recipe (ReSTIR DI's), a spatial radius of 0 made 30 px per 1080 rows (at
-    // least 3).
-    restir::DiFrameParams frame_params() const {
-        restir::DiFrameParams p = settings.di_frame;
-        if (!(p.spatial.radius > 0.0f))
-            p.spatial.radius =
-                std::max(3.0f, 30.0f * static_cast<float>(settings.height) / 1080.0f);
-        return p;
-    }
-
     Frame frame_of(std::uint32_t frame, bool history) const {
         const std::uint32_t w = settings.width, h = settings.height;
-        Frame f{.params = frame_params(),
+        Frame f{.params = frame_params(settings),
                 .frame_index = frame,
                 .surfaces = {gbuffer.surfaces().data(), w, h},
                 .reproject = {&gbuffer, &previous_camera, w}};
