@@ -344,10 +344,8 @@ combine_balance_heuristic(const Reservoir<Sample>& canonical, const S& surface,
     const detail::ReuseTerms<Sample, S, ReuseBridge<Target, Visibility, MaterialTest, Shift>> terms{
         surface, params, bridge};
     const float canonical_count = static_cast<float>(canonical.candidate_count);
-    // sum_l M_l p-hat_l(x) over the inputs; input `own` contributes M_own p-hat_own(y_own),
-    // returned through `own_term`.
     // sum_l M_l p-hat_l(x) over the inputs (`all`) and without input `own` (`others`); input
-    // `own` contributes M_own p-hat_own(y_own), returned through `own_term`.
+    // `own` contributes M_own p-hat_own(y_own) (`own`).
     struct Sums {
         float all = 0.0f, others = 0.0f, own = 0.0f;
     };
