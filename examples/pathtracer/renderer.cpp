@@ -233,8 +233,11 @@ std::uint64_t estimated_memory_bytes(const RenderSettings& settings, bool with_r
     const std::uint64_t pixels = std::uint64_t{settings.width} * settings.height;
     // The two G-buffers hold 2 x 96 bytes of GSurface a pixel (80 more since it carries wo and
     // the BSDF).
-    const std::uint64_t per_pixel =
-        (settings.method == Method::restir ? 384u : 192u) + (with_reference ? 48u : 0u);
+    // ReSTIR GI adds three buffers of 72-byte path reservoirs.
+    const bool restir_gi =
+        settings.method == Method::restir && settings.gi == GlobalIllumination::restir_gi;
+    const std::uint64_t per_pixel = (settings.method == Method::restir ? 384u : 192u) +
+                                    (restir_gi ? 216u : 0u) + (with_reference ? 48u : 0u);
     const std::uint64_t vpls = settings.gi == GlobalIllumination::vpl ? settings.vpls : 0u;
     // bvh's light tree: 124 bytes more per VPL measured at 1M VPLs (grid's per-light nodes
     // need less); the grid at most: its cells' tile indices (4 bytes a cell), and its tiles (a

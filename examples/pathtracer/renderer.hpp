@@ -141,7 +141,8 @@ struct FrameTimings {
 restir::DiFrameParams frame_params(const RenderSettings& settings);
 
 /// Peak memory a render with `settings` needs, in bytes, about: per pixel 384 bytes for ReSTIR
-/// (G-buffers of two frames, three reservoir buffers, the images) and 192 for the other methods,
+/// (G-buffers of two frames, three reservoir buffers, the images), 216 more with ReSTIR GI (its
+/// three buffers of path reservoirs), and 192 for the other methods,
 /// 48 more per pixel with a reference (the reference image and the error measures), 96 per
 /// VPL asked for (224 with the light BVH of --source bvh or grid), for the grid at most 4 bytes
 /// a cell, 128 bytes a pixel and 2 KB a cell looked up, 32 MB besides (measured peaks: 361 and 176

@@ -13,6 +13,7 @@ namespace pt {
 namespace {
 
 using PathReservoir = restir::Reservoir<restir::PathSample>;
+static_assert(sizeof(PathReservoir) == 72u, "estimated_memory_bytes counts 72 bytes a reservoir");
 
 /// f(wo, wi) cos Lo of a path sample at surface `s`, through its BSDF (unshadowed).
 glm::vec3 path_contribution(const restir::PathSample& x, const GSurface& s) {
@@ -56,6 +57,8 @@ struct RestirGi::Stages {
         scratch.resize(pixels);
     }
 
+    // This frame's recipe over the G-buffer that ReSTIR DI traced; `history` false in frame 0
+    // and after a camera cut.
     Frame frame_of(std::uint32_t frame, bool history) const {
         const std::uint32_t w = settings.width, h = settings.height;
         Frame f{.params = frame_params(settings),
