@@ -76,12 +76,8 @@ struct RestirDi::Stages {
     template <class Frame>
     Frame di_frame(std::uint32_t frame, bool history) const {
         const std::uint32_t w = settings.width, h = settings.height;
-        Frame f{.params = frame_params(settings),
-                .frame_index = frame,
-                .surfaces = {gbuffer.surfaces().data(), w, h},
-                .reproject = {&gbuffer, &previous_camera, w}};
-        if (history && frame > 0) {
-            f.previous_surfaces = {gbuffer.previous_surfaces().data(), w, h};
+        Frame f = frame_over<Frame>(gbuffer, previous_camera, settings, frame, history);
+        if (f.previous_surfaces.data != nullptr) {
             if constexpr (Frame::loads_history)
                 f.history = {{stored_history.data(), w, h}, {this}};
             else

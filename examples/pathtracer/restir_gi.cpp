@@ -60,15 +60,9 @@ struct RestirGi::Stages {
     // This frame's recipe over the G-buffer that ReSTIR DI traced; `history` false in frame 0
     // and after a camera cut.
     Frame frame_of(std::uint32_t frame, bool history) const {
-        const std::uint32_t w = settings.width, h = settings.height;
-        Frame f{.params = frame_params(settings),
-                .frame_index = frame,
-                .surfaces = {gbuffer.surfaces().data(), w, h},
-                .reproject = {&gbuffer, &previous_camera, w}};
-        if (history && frame > 0) {
-            f.previous_surfaces = {gbuffer.previous_surfaces().data(), w, h};
-            f.history = {previous_reservoirs.data(), w, h};
-        }
+        Frame f = frame_over<Frame>(gbuffer, previous_camera, settings, frame, history);
+        if (f.previous_surfaces.data != nullptr)
+            f.history = {previous_reservoirs.data(), settings.width, settings.height};
         return f;
     }
 
