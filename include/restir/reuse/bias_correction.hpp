@@ -106,23 +106,23 @@ ReuseBridge(Target, Visibility, MaterialTest, Shift)
 
 namespace detail {
 
-/// What an input lends under a shift other than the identity: its reservoir with the sample
-/// shifted to the receiver and W times the shift's Jacobian, so that merging weighs it with
-/// p-hat_q(T(x)) W |dT/dx| (Lin et al. 2022, Eq. 3.4); the reservoir itself until
-/// `ReuseTerms::lend` has shifted it (an input without a sample is merged as it is, with weight 0).
+/// What an input lends under a shift other than the identity: a copy of its reservoir, which
+/// `ReuseTerms::lend` turns into the shifted one (the sample shifted to the receiver, W times the
+/// shift's Jacobian, so that merging weighs it with p-hat_q(T(x)) W |dT/dx|, Lin et al. 2022,
+/// Eq. 3.4); an input without a sample is merged as it is, with weight 0. A copy rather than a
+/// choice between two references, which would put the reservoir in a GPU thread's local memory.
 template <class Sample, bool Shifts>
 struct LentInput {
-    Reservoir<Sample> shifted{};
+    Reservoir<Sample> lent;
     float jacobian = 0.0f; ///< |dT/dx|, 0 where the shift fails.
-    bool is_shifted = false;
-    RESTIR_HOST_DEVICE const Reservoir<Sample>& of(const Reservoir<Sample>& r) const {
-        return is_shifted ? shifted : r;
-    }
+    RESTIR_HOST_DEVICE explicit LentInput(const Reservoir<Sample>& r) : lent(r) {}
+    RESTIR_HOST_DEVICE const Reservoir<Sample>& of(const Reservoir<Sample>&) const { return lent; }
 };
 /// Under the identity: the reservoir as it is, Jacobian 1 (nothing stored).
 template <class Sample>
 struct LentInput<Sample, false> {
     static constexpr float jacobian = 1.0f;
+    RESTIR_HOST_DEVICE explicit LentInput(const Reservoir<Sample>&) {}
     RESTIR_HOST_DEVICE const Reservoir<Sample>& of(const Reservoir<Sample>& r) const { return r; }
 };
 
@@ -150,12 +150,10 @@ struct ReuseTerms {
     RESTIR_HOST_DEVICE float lend(Lent& lent, const Reservoir<Sample>& r, const S& there) const {
         if constexpr (shifts) {
             const ShiftedSample<Sample> y = bridge.shift(r.sample, there, surface);
-            lent.shifted = r;
-            lent.shifted.sample = y.sample;
-            lent.is_shifted = true;
+            lent.lent.sample = y.sample;
             const bool shifted = is_valid_weight(y.jacobian) && y.jacobian > 0.0f;
             lent.jacobian = shifted ? y.jacobian : 0.0f;
-            lent.shifted.contribution_weight *= lent.jacobian; // never enters where T fails
+            lent.lent.contribution_weight *= lent.jacobian; // never enters where T fails
             return shifted ? here(y.sample) : 0.0f;
         } else {
             return here(r.sample);
@@ -280,7 +278,7 @@ RESTIR_HOST_DEVICE Reservoir<Sample> merge_inputs(const Reservoir<Sample>& canon
     for_each_input<Sample, S>(
         inputs, [&](std::uint32_t, const Reservoir<Sample>& r, const S& there) {
             const bool lends = r.has_sample() && (!only_own_support || terms.own(r, there) > 0.0f);
-            typename Terms::Lent lent;
+            typename Terms::Lent lent(r);
             const float here = lends ? terms.lend(lent, r, there) : 0.0f;
             result.merge(lent.of(r), here, next_float(rng));
         });
@@ -373,7 +371,7 @@ combine_balance_heuristic(const Reservoir<Sample>& canonical, const S& surface,
     result.merge_with_mis(canonical, canonical.target_value, canonical_mis, next_float(rng));
     detail::for_each_input<Sample, S>(inputs, [&](std::uint32_t i, const Reservoir<Sample>& r,
                                                   const S& there) {
-        typename decltype(terms)::Lent lent;
+        typename decltype(terms)::Lent lent(r);
         float here = 0.0f;
         float mis_weight = 0.0f;
         if (r.has_sample()) {
@@ -426,7 +424,7 @@ combine_pairwise(const Reservoir<Sample>& canonical, const S& surface, const Inp
                                                   const S& there) {
         const float count = static_cast<float>(r.candidate_count);
         const float pair_weight = safe_divide(count + canonical_share, total_count);
-        typename decltype(terms)::Lent lent;
+        typename decltype(terms)::Lent lent(r);
         float here = 0.0f;
         float mis_weight = 0.0f;
         if (r.has_sample()) {
