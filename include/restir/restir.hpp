@@ -43,6 +43,8 @@
 #include "restir/reuse/neighbour_offsets.hpp"
 #include "restir/reuse/packed_reservoir.hpp"
 #include "restir/reuse/reuse_input.hpp"
+#include "restir/reuse/reuse_params.hpp"
+#include "restir/reuse/reuse_terms.hpp"
 #include "restir/reuse/shift.hpp"
 #include "restir/reuse/similarity.hpp"
 #include "restir/reuse/spatial.hpp"
