@@ -73,6 +73,10 @@ echo "Cornell box, 1280 x 720, $pixels pixels see a surface, $cores cores:"
 for name in cornell-ris cornell-restir cornell-restir-1overM cornell-restir-rayfree; do
   echo "- $name: frame $(ratio "${frame_ms[$name]}" "$uniform") x uniform"
 done
+restir=${frame_ms[cornell-restir]}
+echo "- ReSTIR at the defaults: $restir ms; 3x uniform is $(awk -v u="$uniform" \
+  'BEGIN { printf "%.1f", 3 * u }') ms, 2x $(awk -v u="$uniform" 'BEGIN { printf "%.1f", 2 * u }') ms \
+($(awk -v r="$restir" -v u="$uniform" 'BEGIN { printf "%.1f", r - 2 * u }') ms over 2x)"
 echo "- ReSTIR candidate phase (32 candidates, tiles apart): $(per "${candidates_ms[cornell-restir]}" \
   $((pixels * 32))) ns per candidate per core, visibility ray included"
 echo "- ReSTIR spatial phase (k = 5): $(per "${spatial_ms[cornell-restir]}" "$pixels") ns per pixel per core, rays included"

@@ -383,6 +383,7 @@ std::unique_ptr<InitialCandidates> make_initial_candidates(const RenderSettings&
         return std::make_unique<GridCandidates>(settings, scene, lights, blocks);
     case CandidateSource::power:
     case CandidateSource::uniform:
+    case CandidateSource::automatic: // resolved by the renderer (resolved_candidates)
         break;
     }
     return std::make_unique<TileCandidates>(settings, lights, blocks);

@@ -237,6 +237,28 @@ std::string environment_summary(const pt::Scene& scene) {
            std::to_string(scene.environment->map.height());
 }
 
+// "; 32 candidates by power" for the RIS methods: the source and count the render resolved.
+std::string candidates_summary(const pt::RenderSettings& settings) {
+    if (settings.method != pt::Method::ris && settings.method != pt::Method::restir)
+        return {};
+    const char* source = "by power";
+    switch (settings.source) {
+    case pt::CandidateSource::uniform:
+        source = "uniformly";
+        break;
+    case pt::CandidateSource::bvh:
+        source = "from the light BVH";
+        break;
+    case pt::CandidateSource::grid:
+        source = "from the light grid";
+        break;
+    case pt::CandidateSource::power:
+    case pt::CandidateSource::automatic:
+        break;
+    }
+    return "; " + std::to_string(settings.candidates) + " candidates " + source;
+}
+
 // Loads the scene, checks everything that can be checked before the render, renders, measures
 // and writes the image.
 void run(pt::RenderOptions& options) {
@@ -250,10 +272,10 @@ void run(pt::RenderOptions& options) {
     std::ofstream csv = open_csv(options.csv);
 
     pt::Renderer renderer(scene, settings);
-    std::printf("scene %s: %u triangles, %u emitters, %zu VPLs%s; %ux%u, %u frame(s)\n",
+    std::printf("scene %s: %u triangles, %u emitters, %zu VPLs%s; %ux%u, %u frame(s)%s\n",
                 scene.name.c_str(), scene.triangle_count(), renderer.emitter_count(),
                 renderer.vpl_count(), environment_summary(scene).c_str(), settings.width,
-                settings.height, options.frames);
+                settings.height, options.frames, candidates_summary(renderer.settings()).c_str());
     if (settings.gi == pt::GlobalIllumination::vpl && settings.vpls > 0 &&
         renderer.vpl_count() == 0)
         std::cerr << "restir-render: warning: no photon left a VPL (no surface reflects "

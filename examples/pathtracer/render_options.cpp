@@ -208,8 +208,10 @@ struct ReuseFlags {
 // reuse flags through `flags`).
 void add_light_sampling_options(CLI::App& app, RenderSettings& settings, ReuseFlags& flags) {
     restir::DiFrameParams& frame = settings.di_frame;
-    app.add_option("--candidates", settings.candidates, "RIS candidates per pixel (M)")
-        ->check(CLI::Range(1u, 4096u));
+    app.add_option("--candidates", settings.candidates,
+                   "RIS candidates per pixel (M); 0 (default): 4 from the light BVH, 32 from "
+                   "light tiles or the grid")
+        ->check(CLI::Range(0u, 4096u));
     app.add_option("--neighbours", frame.spatial.neighbour_count, "Spatial reuse neighbours (k)")
         ->check(CLI::Range(0u, restir::max_reuse_inputs - 1u));
     app.add_option("--radius", frame.spatial.radius,
@@ -246,16 +248,19 @@ void add_light_sampling_options(CLI::App& app, RenderSettings& settings, ReuseFl
                    "(true/false); false assumes samples visible inside the weights (no rays in "
                    "reuse, slightly biased: docs/noise-and-bias.md)");
     app.add_option("--source", settings.source,
-                   "Candidate distribution of ris/restir: power or uniform (from light tiles), "
+                   "Candidate distribution of ris/restir: auto (default: bvh for scenes of 64 "
+                   "or more emitter triangles, else power; docs/performance.md), power or "
+                   "uniform (from light tiles), "
                    "bvh (by importance at the pixel's surface, a light BVH drawn per pixel: "
                    "far better candidates, each costing more; lower --candidates) or grid (by "
                    "importance in the pixel's cell of a world-space grid, tiles per cell "
                    "resampled from power-proportional candidates every frame; --grid-cells)")
-        ->transform(names<CandidateSource>({{"power", CandidateSource::power},
+        ->transform(names<CandidateSource>({{"auto", CandidateSource::automatic},
+                                            {"power", CandidateSource::power},
                                             {"uniform", CandidateSource::uniform},
                                             {"bvh", CandidateSource::bvh},
                                             {"grid", CandidateSource::grid}}))
-        ->default_str("power");
+        ->default_str("auto");
     app.add_option("--grid-cells", settings.grid_cells,
                    "--source grid: cells along the longest side of the scene's box (the other "
                    "sides in cells of about that size); 32 suits the many-lights scene, 8 the "

@@ -45,9 +45,9 @@ struct Renderer::Impl {
 
     // Builds the BVH, the emitters, the first VPL set and the frame buffers.
     Impl(const Scene& s, const RenderSettings& rs)
-        : scene(s), settings(rs), rays(scene),
-          arena(settings.threads == 0 ? tbb::task_arena::automatic
-                                      : static_cast<int>(settings.threads)),
+        : scene(s), settings(resolved_candidates(rs, TriangleEmitters(s).light_count())),
+          rays(scene), arena(settings.threads == 0 ? tbb::task_arena::automatic
+                                                   : static_cast<int>(settings.threads)),
           extent(scene_size(scene)), ray_offset(1e-4f * extent),
           light_set(scene, rays, settings, arena, ray_offset, extent),
           blocks(settings.width, settings.height, arena),
@@ -243,8 +243,9 @@ std::uint64_t estimated_memory_bytes(const RenderSettings& settings, bool with_r
     // need less); the grid at most: its cells' tile indices (4 bytes a cell), and its tiles (a
     // cell looked up has fewer than 2 entries per pixel that looks it up, and at least 32, of
     // 64 bytes each).
-    const bool bvh =
-        settings.source == CandidateSource::bvh || settings.source == CandidateSource::grid;
+    const bool bvh = settings.source == CandidateSource::bvh ||
+                     settings.source == CandidateSource::grid ||
+                     settings.source == CandidateSource::automatic; // at most the BVH's
     const std::uint64_t cells =
         std::uint64_t{settings.grid_cells} * settings.grid_cells * settings.grid_cells;
     const std::uint64_t grid = settings.source == CandidateSource::grid
@@ -268,6 +269,18 @@ std::uint32_t Renderer::photons_per_set() const {
 }
 const std::vector<restir::Vpl>& Renderer::vpls() const { return impl_->light_set.vpls(); }
 std::uint32_t Renderer::emitter_count() const { return impl_->light_set.emitters().light_count(); }
+
+const RenderSettings& Renderer::settings() const { return impl_->settings; }
+
+RenderSettings resolved_candidates(RenderSettings settings, std::uint32_t emitter_count) {
+    if (settings.source == CandidateSource::automatic)
+        settings.source =
+            emitter_count >= bvh_source_emitters ? CandidateSource::bvh : CandidateSource::power;
+    if (settings.candidates == 0u)
+        settings.candidates = settings.source == CandidateSource::bvh ? default_bvh_candidates
+                                                                      : default_tile_candidates;
+    return settings;
+}
 
 std::size_t Renderer::surface_pixel_count() const {
     return static_cast<std::size_t>(std::count_if(impl_->gbuffer.surfaces().begin(),

@@ -31,7 +31,8 @@ enum class GlobalIllumination {
 /// uniformly (from light tiles), or by their importance at the pixel's surface (a light BVH,
 /// drawn per pixel), or by their importance in the pixel's cell of a world-space grid (tiles
 /// per cell resampled from power-proportional candidates every frame, ReGIR; `grid_cells`).
-enum class CandidateSource { power, uniform, bvh, grid };
+/// `automatic` is resolved per scene when the renderer is built (`resolved_candidates`).
+enum class CandidateSource { power, uniform, bvh, grid, automatic };
 /// How the point on an emitter of a RIS candidate is drawn: uniformly in its area, or uniformly
 /// in the solid angle it subtends from the pixel's surface (restir::sample_triangle_from; the
 /// light tiles keep area points and draw the chosen candidate's point again).
@@ -52,7 +53,7 @@ struct RenderSettings {
     std::uint32_t spp = 1; ///< Samples per pixel per frame (restir: 1).
     Method method = Method::restir;
     GlobalIllumination gi = GlobalIllumination::vpl;
-    CandidateSource source = CandidateSource::power;
+    CandidateSource source = CandidateSource::automatic;
     LightPoints light_points = LightPoints::area;
     std::uint64_t seed = 0;
     CameraSetup camera{};
@@ -60,8 +61,8 @@ struct RenderSettings {
     std::uint32_t threads = 0; ///< 0: all hardware threads.
     bool antialias = false;    ///< Jitter primary rays in the pixel (off: pixel centres, so
                                ///< that error measurements see lighting noise only).
-    /// RIS candidates per pixel (ris, restir).
-    std::uint32_t candidates = 32;
+    /// RIS candidates per pixel (ris, restir); 0: the source's default (`resolved_candidates`).
+    std::uint32_t candidates = 0;
     /// BSDF-sampled candidates per glossy pixel (ris, restir), combined with `candidates` light
     /// candidates drawn per pixel by power (restir::resample_lights_and_bsdf); 0: light
     /// candidates from `source` alone.
@@ -149,6 +150,21 @@ restir::DiFrameParams frame_params(const RenderSettings& settings);
 /// bytes per pixel at 2048 x 2048, 79 per VPL at 1M VPLs, 124 more per VPL with the BVH).
 std::uint64_t estimated_memory_bytes(const RenderSettings& settings, bool with_reference);
 
+/// Emissive triangles from which `CandidateSource::automatic` takes candidates from the light
+/// BVH: with fewer, from light tiles by power (docs/performance.md, "Equal time").
+inline constexpr std::uint32_t bvh_source_emitters = 64;
+/// Candidates per pixel when `candidates` is 0: from the light BVH, where each costs a descent
+/// of the tree, and from tiles or the grid.
+inline constexpr std::uint32_t default_bvh_candidates = 4;
+inline constexpr std::uint32_t default_tile_candidates = 32;
+
+/// `settings` with `source` and `candidates` resolved for a scene of `emitter_count` emissive
+/// triangles: `automatic` becomes `bvh` from `bvh_source_emitters` emitters on (many emitters,
+/// some close to the surfaces they light: power-proportional candidates rarely find the close
+/// ones), `power` below (a few emitters and the VPLs, whose falloff is clamped); candidates 0
+/// becomes the source's default.
+RenderSettings resolved_candidates(RenderSettings settings, std::uint32_t emitter_count);
+
 /// Renders frames of one scene with one setting. Throws SceneError for a scene without
 /// emitters.
 class Renderer {
@@ -182,6 +198,8 @@ public:
     std::vector<std::uint8_t> glossy_pixels() const;
     /// Emissive triangles of the scene (degenerate ones emit nothing and are left out).
     std::uint32_t emitter_count() const;
+    /// The settings the renderer runs with: those it was given, `resolved_candidates`.
+    const RenderSettings& settings() const;
 
 private:
     struct Impl;
