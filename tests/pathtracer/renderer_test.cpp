@@ -457,6 +457,32 @@ TEST(Renderer, PhotonBudgetIsBounded) {
     EXPECT_LE(lit.photons_per_set(), 64u * s.vpls);
 }
 
+// The default source is the BVH from bvh_source_emitters emitter triangles on (4 candidates),
+// power tiles below (32); what the command line names is kept.
+TEST(Renderer, AutomaticCandidatesFollowTheEmitterCount) {
+    const pt::Scene box = pt::make_cornell_box();
+    const pt::Scene many = pt::make_many_lights(pt::bvh_source_emitters / 2u, 1u); // 2 a quad
+    const pt::Scene fewer = pt::make_many_lights(pt::bvh_source_emitters / 2u - 1u, 1u);
+    const pt::Renderer in_box(box, tiny(box, 8));
+    const pt::Renderer among_many(many, tiny(many, 8));
+    const pt::Renderer among_fewer(fewer, tiny(fewer, 8));
+    ASSERT_EQ(among_many.emitter_count(), pt::bvh_source_emitters);
+    EXPECT_EQ(in_box.settings().source, pt::CandidateSource::power);
+    EXPECT_EQ(in_box.settings().candidates, pt::default_tile_candidates);
+    EXPECT_EQ(among_fewer.settings().source, pt::CandidateSource::power);
+    EXPECT_EQ(among_many.settings().source, pt::CandidateSource::bvh);
+    EXPECT_EQ(among_many.settings().candidates, pt::default_bvh_candidates);
+
+    pt::RenderSettings chosen = tiny(many, 8);
+    chosen.source = pt::CandidateSource::grid;
+    chosen.candidates = 7u;
+    const pt::RenderSettings kept = pt::resolved_candidates(chosen, 1000u);
+    EXPECT_EQ(kept.source, pt::CandidateSource::grid);
+    EXPECT_EQ(kept.candidates, 7u);
+    chosen.candidates = 0u;
+    EXPECT_EQ(pt::resolved_candidates(chosen, 1000u).candidates, pt::default_tile_candidates);
+}
+
 TEST(Renderer, SceneWithoutEmittersIsAnError) {
     pt::Scene scene = furnace(0.5f);
     scene.materials[0].emission = glm::vec3(0.0f);
