@@ -92,6 +92,22 @@ float point_irradiance(const TestLight& l, const ShadingPoint& at) {
     return l.power * receiver * emitter / d2;
 }
 
+// The grid each group's boxes are stored on (its parent's box's), by a walk from the root: a
+// group comes after its parent.
+std::vector<restir::LightBvhGrid> group_grids(const restir::LightBvh& bvh) {
+    std::vector<restir::LightBvhGrid> grids(bvh.groups().size());
+    if (grids.empty())
+        return grids;
+    grids[0] = bvh.view().root_grid();
+    for (std::size_t index = 0u; index < grids.size(); ++index) {
+        const restir::LightBvhGroup& group = bvh.groups()[index];
+        for (std::uint32_t c = 0u; c < restir::LightBvhGroup::lanes; ++c)
+            if (!group.is_leaf(c))
+                grids[group.child_or_light[c]] = group.child_grid(c, grids[index]);
+    }
+    return grids;
+}
+
 // The pmf is positive wherever a point light lights the point, sums to at most one (the rest
 // is the chance that the descent reaches a node none of whose lights reach the point: no
 // light), and the descent's histogram, with "no light" as one more cell, matches it.
@@ -233,9 +249,12 @@ TEST(LightBvh, PointsNoLightReachesDrawNothing) {
 TEST(LightBvh, GroupBoundsEqualEachChildsBound) {
     const std::vector<TestLight> lights = test_lights(5000u, 51u);
     const restir::LightBvh bvh(bounds_of(lights));
+    const std::vector<restir::LightBvhGrid> grids = group_grids(bvh);
     restir::Pcg32 rng = restir::make_pixel_rng(6u, 0u, 0u, 52u);
     std::uint32_t positive = 0u;
-    for (const restir::LightBvhGroup& group : bvh.groups()) {
+    for (std::size_t index = 0u; index < bvh.groups().size(); ++index) {
+        const restir::LightBvhGroup& group = bvh.groups()[index];
+        const restir::LightBvhGrid& grid = grids[index];
         for (int k = 0; k < 8; ++k) {
             ShadingPoint at = random_point(rng);
             if (k == 1)
@@ -243,12 +262,12 @@ TEST(LightBvh, GroupBoundsEqualEachChildsBound) {
             if (k == 2)
                 at.radius = 2.0f * next_float(rng);
             if (k == 3)
-                at.position = group.node(0u).centre;
+                at.position = group.node(0u, grid).centre;
             float bounds[restir::LightBvhGroup::lanes];
-            const float total = group.importance(at, bounds);
+            const float total = group.importance(at, grid, bounds);
             float sum = 0.0f;
             for (std::uint32_t c = 0u; c < restir::LightBvhGroup::lanes; ++c) {
-                const float expected = restir::light_importance(group.node(c), at);
+                const float expected = restir::light_importance(group.node(c, grid), at);
                 ASSERT_EQ(bounds[c], expected) << "lane " << c << ", point " << k;
                 positive += expected > 0.0f ? 1u : 0u;
                 sum += expected;
