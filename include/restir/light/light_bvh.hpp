@@ -229,19 +229,19 @@ inline float fast_acos(float x) {
 } // namespace detail
 
 /// The host-built tree over a list of lights (light id = index in the list), with
-/// `LightBvhView::arity` (4) children per interior node. Each node's lights are split in two
+/// `LightBvhView::arity` (8) children per interior node. Each node's lights are split in two
 /// by the orientation-aware surface area heuristic (SAOH, Conty Estevez and Kulla 2018: power x
 /// M_Omega(cone) x surface area x a factor against splitting a long box across its short side,
-/// least over 12 buckets of the lights' centres on each axis; the buckets' cones are estimated
-/// from the box of the lights' axes), and each half again the same way, which gives the node's
-/// four children. A node of at most four lights gets one leaf each; unused children have no
-/// power. Each split moves at most a light or two across it so that all the children of a node
-/// but one hold 1 (mod 3) lights: such a child's subtree fills every lane of its groups. Where
-/// the cost could make a path longer than `LightBvhView::max_depth` groups, the node is split
-/// into quarters at the median centres instead, as where all the centres coincide. The groups
-/// are quantised from the root down, each child's box on the grid of its parent's quantised
-/// box. Throws std::invalid_argument for more than 2^31 lights or a light with a negative or
-/// non-finite power, or a non-finite position or one beyond +-2^64 (where squared distances
+/// least over 12 buckets of the lights' box on each axis, or over every position for at most
+/// 16 lights; a side's cone is estimated from the box of its lights' axes), and each half again
+/// the same way for three levels, which gives the node's eight children. A node of at most
+/// eight lights gets one leaf each; unused children have no power. Each split moves a few
+/// lights across it so that all the children of a node but one hold 1 (mod 7) lights: such a
+/// child's subtree fills every lane of its groups. Where the cost could make a path longer
+/// than `LightBvhView::max_depth` groups, the splits are at the median centres instead. The
+/// groups are quantised from the root down, each child's box on the grid of its parent's
+/// quantised box. Throws std::invalid_argument for more than 2^31 lights or a light with a negative
+/// or non-finite power, or a non-finite position or one beyond +-2^64 (where squared distances
 /// overflow a float).
 class LightBvh {
 public:
@@ -431,7 +431,8 @@ private:
             const Part& part = parts[c];
             detail::LaneEncoder::box(groups_[index], c, grid, part.bounds.lower(),
                                      part.bounds.upper());
-            const std::uint64_t child_path = path | (std::uint64_t{c} << (2u * depth));
+            const std::uint64_t child_path =
+                path | (std::uint64_t{c} << (LightBvhGroup::lane_bits * depth));
             Exact below;
             if (part.size() == 1u) {
                 const Item& light = items[part.begin];
@@ -464,8 +465,8 @@ private:
         return bounds;
     }
 
-    // The children of `node` (more than one light): one light each for up to four, else two
-    // levels of binary splits, and a third where a first-level half was a single light.
+    // The children of `node` (more than one light): one light each for up to `arity`, else
+    // log2(arity) levels of binary splits, and more where a half was a single light early.
     // Returns the number of children.
     std::uint32_t split_node(std::vector<Item>& items, const Part& node, std::uint32_t depth,
                              Part (&parts)[LightBvhView::arity]) {
@@ -475,41 +476,56 @@ private:
                 parts[i - node.begin] = part_of(items, i, i + 1u);
             return static_cast<std::uint32_t>(node.size());
         }
+        parts[0] = node;
         // The cost may isolate a few lights at each level; where that could overflow a path,
-        // quarters keep the remaining depth at log4 of the lights.
+        // medians keep the remaining depth at log_arity of the lights.
         if (depth + 1u + levels_for(node.size()) > LightBvhView::max_depth) {
-            median_split(items, node, node.begin + node.size() / 2u, parts[0], parts[2]);
-            const Part first = parts[0], second = parts[2];
-            median_split(items, first, first.begin + first.size() / 2u, parts[0], parts[1]);
-            median_split(items, second, second.begin + second.size() / 2u, parts[2], parts[3]);
+            for (std::uint32_t count = 1u; count < arity; count *= 2u)
+                for (std::uint32_t k = count; k-- > 0u;) {
+                    const Part whole = parts[k];
+                    median_split(items, whole, whole.begin + whole.size() / 2u, parts[2u * k],
+                                 parts[2u * k + 1u]);
+                }
             return arity;
         }
-        // Children of 1 (mod 3) lights fill their groups (3g + 1 lights in g full groups): the
-        // halves aim at 2 (mod 3) lights (two such children), one of them carrying the rest.
-        const auto residue = [](std::size_t n) { return static_cast<std::uint32_t>(n % 3u); };
-        std::uint32_t count = 2u;
-        split(items, node, 2u, (residue(node.size()) + 1u) % 3u, parts[0], parts[1]);
-        const auto split_part = [&](std::uint32_t which) {
-            for (std::uint32_t k = count; k > which + 1u; --k)
-                parts[k] = parts[k - 1u];
-            const Part whole = parts[which];
-            split(items, whole, 1u, (residue(whole.size()) + 2u) % 3u, parts[which],
-                  parts[which + 1u]);
-            ++count;
-        };
-        for (std::uint32_t which = 0u; which < count && count < arity; ++which)
-            if (parts[which].size() > 1u)
-                split_part(which++);
+        std::uint32_t count = 0u;
+        divide(items, node, arity, parts, count);
         while (count < arity) {
             std::uint32_t largest = 0u;
             for (std::uint32_t k = 1u; k < count; ++k)
                 largest = parts[k].size() > parts[largest].size() ? k : largest;
-            split_part(largest);
+            for (std::uint32_t k = count; k > largest + 1u; --k)
+                parts[k] = parts[k - 1u];
+            const Part whole = parts[largest];
+            split(items, whole, 1u, residue(whole.size() - 1u), parts[largest],
+                  parts[largest + 1u]);
+            ++count;
         }
         return count;
     }
 
-    // Groups below a node of `n` lights when every split is at the median: ceil(log4 n).
+    // Lights (mod arity - 1): a subtree of g full groups holds (arity - 1) g + 1 lights.
+    static std::uint32_t residue(std::size_t n) {
+        return static_cast<std::uint32_t>(n % (LightBvhView::arity - 1u));
+    }
+
+    // Appends `whole` to `parts` as `portions` children (fewer for fewer lights), by binary
+    // splits whose halves aim at portions / 2 (mod arity - 1) lights each, one of them carrying
+    // the rest: every child but one then fills its groups.
+    void divide(std::vector<Item>& items, const Part& whole, std::uint32_t portions,
+                Part (&parts)[LightBvhView::arity], std::uint32_t& count) {
+        if (portions == 1u || whole.size() == 1u) {
+            parts[count++] = whole;
+            return;
+        }
+        const std::uint32_t half = portions / 2u;
+        Part below, above;
+        split(items, whole, residue(half), residue(whole.size() - half), below, above);
+        divide(items, below, half, parts, count);
+        divide(items, above, half, parts, count);
+    }
+
+    // Groups below a node of `n` lights when every split is at the median: ceil(log_arity n).
     static std::uint32_t levels_for(std::size_t n) {
         std::uint32_t levels = 0u;
         for (std::size_t reach = 1u; reach < n; reach *= LightBvhView::arity)
@@ -519,8 +535,8 @@ private:
 
     // Splits `whole` (at least two lights) in two, by the least SAOH cost over the bucket
     // boundaries of the three axes (buckets across the part's box), with `below` holding
-    // `residue_a` or `residue_b` (mod 3) lights: lights of the buckets at the boundary cross
-    // it to make the count so.
+    // `residue_a` or `residue_b` (`residue`) lights: lights of the buckets at the boundary
+    // cross it to make the count so.
     static void split(std::vector<Item>& items, const Part& whole, std::uint32_t residue_a,
                       std::uint32_t residue_b, Part& below, Part& above) {
         if (whole.size() == 2u) { // nothing to choose
@@ -588,7 +604,8 @@ private:
     }
 
     // `split` for at most `few` lights: the least SAOH cost over every position of the lights'
-    // centres sorted along each axis whose count below is `residue_a` or `residue_b` (mod 3).
+    // centres sorted along each axis whose count below is `residue_a` or `residue_b`
+    // (`residue`).
     static void split_few(std::vector<Item>& items, const Part& whole, std::uint32_t residue_a,
                           std::uint32_t residue_b, Part& below, Part& above) {
         const auto n = static_cast<std::uint32_t>(whole.size());
@@ -596,7 +613,7 @@ private:
         Bounds before[3][few], after[3][few]; // [k]: the first k, the last n - k
         std::uint32_t counts[few], count_total = 0u;
         for (std::uint32_t k = 1u; k < n; ++k)
-            if (k % 3u == residue_a || k % 3u == residue_b)
+            if (residue(k) == residue_a || residue(k) == residue_b)
                 counts[count_total++] = k;
         if (count_total == 0u)
             counts[count_total++] =
@@ -656,16 +673,17 @@ private:
         above = {whole.begin + count, whole.end, after[axis][count]};
     }
 
-    // The count in [1, n) nearest `count` that is `residue_a` or `residue_b` (mod 3).
+    // The count in [1, n) nearest `count` that is `residue_a` or `residue_b` (`residue`).
     static std::size_t nearest_count(std::size_t count, std::size_t n, std::uint32_t residue_a,
                                      std::uint32_t residue_b) {
+        constexpr std::size_t period = LightBvhView::arity - 1u;
         std::size_t best = std::clamp<std::size_t>(count, 1u, n - 1u);
         std::size_t best_distance = std::numeric_limits<std::size_t>::max();
-        for (std::size_t candidate = count > 3u ? count - 3u : 1u; candidate <= count + 3u;
-             ++candidate) {
+        for (std::size_t candidate = count > period ? count - period : 1u;
+             candidate <= count + period; ++candidate) {
             if (candidate < 1u || candidate >= n)
                 continue;
-            const auto r = static_cast<std::uint32_t>(candidate % 3u);
+            const std::uint32_t r = residue(candidate);
             const std::size_t distance = candidate > count ? candidate - count : count - candidate;
             if ((r == residue_a || r == residue_b) && distance < best_distance) {
                 best = candidate;
@@ -800,7 +818,8 @@ private:
     // the loop runs over whole vectors of them (the rest zeroed first).
     struct Features {
         static constexpr std::uint32_t vector = 16u;
-        static constexpr std::uint32_t slots = 3u * 2u * (bucket_count - 1u) + vector;
+        static constexpr std::uint32_t slots =
+            3u * 2u * (few > bucket_count ? few - 1u : bucket_count - 1u) + vector;
         float least[fields][slots];
         float power[slots], thin[slots], cost[slots];
         std::uint32_t count[slots];

@@ -1,14 +1,14 @@
 /// @file light/light_bvh_view.hpp
 /// A bounding volume hierarchy over lights for spatially aware light selection (Conty Estevez
 /// and Kulla 2018, "Importance Sampling of Many Lights with Adaptive Tree Splitting"), as device
-/// code reads it: flat groups of four children, sampled by `LightBvhView`. Every node bounds its
+/// code reads it: flat groups of eight children, sampled by `LightBvhView`. Every node bounds its
 /// lights' positions (a box, weighed through its centre and half diagonal), their emitted power,
 /// and the directions they emit in (a cone of normals of half-angle theta_o, plus the emission
 /// spread theta_e beyond them). A light is drawn for a shading point by one stochastic descent
 /// that picks each child in proportion to an importance bound of its lights at the point; the
 /// pmf of a light is the product of the choices on its path, found by the same descent from the
-/// path's bits, so it is exact and RIS with it stays unbiased. The groups are quantised (64
-/// bytes for four children): boxes in 8-bit steps of the parent's box, octahedral cone axes,
+/// path's bits, so it is exact and RIS with it stays unbiased. The groups are quantised (128
+/// bytes for eight children): boxes in 8-bit steps of the parent's box, octahedral cone axes,
 /// 8-bit cone angles and bfloat16 powers, every bound rounded outward; the draw and the pmf read
 /// the same numbers. The host builder is `LightBvh` (light/light_bvh.hpp).
 #pragma once
@@ -35,7 +35,7 @@
 namespace restir {
 
 /// The bounds of one node (one light, or a group of lights) as `light_importance` weighs
-/// them: 48 bytes. The tree keeps them quantised, four by four, in `LightBvhGroup`s
+/// them: 48 bytes. The tree keeps them quantised, eight by eight, in `LightBvhGroup`s
 /// (`LightBvhGroup::node` reads one back).
 struct LightBvhNode {
     glm::vec3 centre{0.0f};
@@ -65,7 +65,7 @@ RESTIR_HOST_DEVICE inline float sine_of(float cosine) noexcept {
 }
 
 // The importance bound of Conty Estevez and Kulla 2018 (Eq. 3) from a node's fields: the one
-// formula of `light_importance` and of the four lanes of a `LightBvhGroup`. Selects rather than
+// formula of `light_importance` and of the lanes of a `LightBvhGroup`. Selects rather than
 // branches throughout (the outcomes vary from node to node, and the lanes vectorise), as
 // `select_float`: with `?:` whether the lanes vectorise depends on the caller.
 RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE float importance_bound(glm::vec3 centre, float node_radius,
@@ -231,16 +231,18 @@ RESTIR_HOST_DEVICE inline LightBvhGrid LightBvhGrid::over(glm::vec3 lower,
                       detail::grid_step(lower.z, upper.z))};
 }
 
-/// The children of one interior node of the flat tree, lane c for child c, quantised: 64
-/// bytes, one cache line. A structure of arrays, so that the four importance bounds of a level
-/// decode and compute side by side in vector registers. A child's box is stored on the grid of
-/// its parent's box (`LightBvhGrid`, which a descent carries down from the root's box in
-/// `LightBvhView`); its cone axis in octahedral codes; theta_o, cos(theta_e) and the power in a
-/// byte, a byte and 16 bits. Every bound is rounded outward (the box, theta_o and theta_e only
+/// The children of one interior node of the flat tree, lane c for child c, quantised: 16 bytes
+/// a lane, 128 bytes, two cache lines. A structure of arrays, so that the eight importance
+/// bounds of a level decode and compute side by side in vector registers. A child's box is stored
+/// on the grid of its parent's box (`LightBvhGrid`, which a descent carries down from the root's
+/// box in `LightBvhView`); its cone axis in octahedral codes; theta_o, cos(theta_e) and the power
+/// in a byte, a byte and 16 bits. Every bound is rounded outward (the box, theta_o and theta_e only
 /// grow), so the importance stays positive wherever a light of the child lights a point; the
 /// power is rounded up. An unused lane is a leaf without power, which no draw takes.
 struct alignas(64) LightBvhGroup {
-    static constexpr std::uint32_t lanes = 4u;
+    /// Children per group, a power of two: `lane_bits` bits of a path each.
+    static constexpr std::uint32_t lane_bits = 3u;
+    static constexpr std::uint32_t lanes = 1u << lane_bits;
 
     /// A leaf: `LightBvhNode::leaf_bit` | the light id. Otherwise the index of the group of its
     /// children.
@@ -286,7 +288,7 @@ struct alignas(64) LightBvhGroup {
         n.child_or_light = child_or_light[lane];
         return n;
     }
-    /// The importance bounds of the four children at `at` (`light_importance` of each `node`),
+    /// The importance bounds of the children at `at` (`light_importance` of each `node`),
     /// their boxes on `grid`, and their sum.
     RESTIR_HOST_DEVICE float importance(const ShadingPoint& at, const LightBvhGrid& grid,
                                         float (&out)[lanes]) const;
@@ -313,7 +315,7 @@ private:
 };
 
 static_assert(std::is_trivially_copyable_v<LightBvhGroup>);
-static_assert(sizeof(LightBvhGroup) == 64u);
+static_assert(sizeof(LightBvhGroup) == 16u * LightBvhGroup::lanes);
 
 RESTIR_HOST_DEVICE inline float LightBvhGroup::importance(const ShadingPoint& at,
                                                           const LightBvhGrid& grid,
@@ -342,12 +344,13 @@ RESTIR_HOST_DEVICE inline float LightBvhGroup::importance(const ShadingPoint& at
 /// from must outlive it (for a kernel, copy its arrays to the device and point a copy of
 /// `view()` at them: the root's box travels in the view).
 struct LightBvhView {
-    /// Children per interior node. Four rather than two halve the dependent levels of a draw,
-    /// and each choice weighs tighter bounds: the pmf follows the lights more closely (RIS with
-    /// it had 3.5 times less error per candidate on the many-lights scene; docs/performance.md).
+    /// Children per interior node. A wider node means fewer dependent levels in a draw (about
+    /// log8 n), each weighing its children side by side, and each choice weighs tighter bounds:
+    /// four rather than two gave RIS 3.5 times less error per candidate on the many-lights
+    /// scene, and eight rather than four drew faster (docs/performance.md).
     static constexpr std::uint32_t arity = LightBvhGroup::lanes;
 
-    /// Group 0 holds the root's children (for one light: the light and three unused lanes).
+    /// Group 0 holds the root's children (for one light: the light and seven unused lanes).
     const LightBvhGroup* groups = nullptr;
     /// Per light: the path from the root, bits [2k, 2k + 2) the lane taken in the k-th group
     /// of the descent, and the number of groups passed in the top `depth_shift` bits.
@@ -358,11 +361,12 @@ struct LightBvhView {
     glm::vec3 root_upper{0.0f};
 
     static constexpr std::uint32_t depth_shift = 58u;
-    /// The most groups a path passes (two bits each below `depth_shift`).
-    static constexpr std::uint32_t max_depth = depth_shift / 2u;
+    /// The most groups a path passes (`LightBvhGroup::lane_bits` bits each below
+    /// `depth_shift`).
+    static constexpr std::uint32_t max_depth = depth_shift / LightBvhGroup::lane_bits;
     /// `u0` steers the first `levels_per_number` levels, `u1` the deeper ones: each level
-    /// spends about two bits of its number.
-    static constexpr std::uint32_t levels_per_number = 6u;
+    /// spends about `LightBvhGroup::lane_bits` bits of its number.
+    static constexpr std::uint32_t levels_per_number = 12u / LightBvhGroup::lane_bits;
 
     RESTIR_HOST_DEVICE constexpr std::uint32_t light_count() const noexcept { return count; }
 
@@ -425,7 +429,8 @@ struct LightBvhView {
             const float total = g.importance(at, grid, importance);
             if (!(total > 0.0f))
                 return 0.0f;
-            const auto child = static_cast<std::uint32_t>(path >> (2u * level) & 3u);
+            const auto child = static_cast<std::uint32_t>(
+                path >> (LightBvhGroup::lane_bits * level) & (arity - 1u));
             float chosen = 0.0f;
             for (std::uint32_t c = 0u; c < arity; ++c)
                 chosen = c == child ? importance[c] : chosen;
@@ -511,9 +516,14 @@ private:
     // loads would otherwise wait for the choice.
     RESTIR_HOST_DEVICE void prefetch_children(const LightBvhGroup& g) const {
 #if !defined(__CUDA_ARCH__)
-        for (std::uint32_t c = 0u; c < arity; ++c)
-            if (!g.is_leaf(c))
-                RESTIR_PREFETCH(&groups[g.child_or_light[c]]);
+        // Without branches: a leaf's lane asks for this group again, which costs nothing.
+        const auto here = static_cast<std::uint32_t>(&g - groups);
+        for (std::uint32_t c = 0u; c < arity; ++c) {
+            const char* child =
+                reinterpret_cast<const char*>(&groups[g.is_leaf(c) ? here : g.child_or_light[c]]);
+            for (std::uint32_t line = 0u; line < sizeof(LightBvhGroup); line += 64u)
+                RESTIR_PREFETCH(child + line);
+        }
 #else
         (void)g;
 #endif
