@@ -325,6 +325,7 @@ RESTIR_HOST_DEVICE inline float LightBvhGroup::importance(const ShadingPoint& at
     // "Measured and rejected"). This loop is a draw's inner cost; check BM_LightBvh_SampleBatch
     // after any change here.
     RESTIR_VECTORIZE
+    RESTIR_UNROLL
     for (std::uint32_t c = 0u; c < lanes; ++c) {
         glm::vec3 centre;
         float radius;
@@ -335,6 +336,7 @@ RESTIR_HOST_DEVICE inline float LightBvhGroup::importance(const ShadingPoint& at
             detail::bfloat16_value(power[c]), at);
     }
     float total = 0.0f;
+    RESTIR_UNROLL
     for (std::uint32_t c = 0u; c < lanes; ++c)
         total += out[c];
     return total;
@@ -432,6 +434,7 @@ struct LightBvhView {
             const auto child = static_cast<std::uint32_t>(
                 path >> (LightBvhGroup::lane_bits * level) & (arity - 1u));
             float chosen = 0.0f;
+            RESTIR_UNROLL
             for (std::uint32_t c = 0u; c < arity; ++c)
                 chosen = c == child ? importance[c] : chosen;
             pmf *= chosen / total;
@@ -475,11 +478,13 @@ private:
         const float x = d.u * total;
         float prefix[arity];
         float running = 0.0f;
+        RESTIR_UNROLL
         for (std::uint32_t c = 0u; c < arity; ++c) {
             running += importance[c];
             prefix[c] = running;
         }
         std::uint32_t child = 0u, last_positive = 0u;
+        RESTIR_UNROLL
         for (std::uint32_t c = 0u; c < arity; ++c) {
             child += c + 1u < arity && prefix[c] <= x ? 1u : 0u;
             last_positive = importance[c] > 0.0f ? c : last_positive;
@@ -487,6 +492,7 @@ private:
         child = min_of(child, last_positive);
 #if defined(__CUDA_ARCH__)
         float start = 0.0f, chosen = 0.0f;
+        RESTIR_UNROLL
         for (std::uint32_t c = 0u; c < arity; ++c) {
             start = select_float(c == child, c == 0u ? 0.0f : prefix[c - 1u], start);
             chosen = select_float(c == child, importance[c], chosen);
@@ -494,6 +500,7 @@ private:
 #else
         // On a CPU, loads at a runtime index (compilers turn the masks into branches).
         float before_child[arity];
+        RESTIR_UNROLL
         for (std::uint32_t c = 0u; c < arity; ++c)
             before_child[c] = c == 0u ? 0.0f : prefix[c - 1u];
         const float start = before_child[child];
@@ -518,6 +525,7 @@ private:
 #if !defined(__CUDA_ARCH__)
         // Without branches: a leaf's lane asks for this group again, which costs nothing.
         const auto here = static_cast<std::uint32_t>(&g - groups);
+        RESTIR_UNROLL
         for (std::uint32_t c = 0u; c < arity; ++c) {
             const char* child =
                 reinterpret_cast<const char*>(&groups[g.is_leaf(c) ? here : g.child_or_light[c]]);
