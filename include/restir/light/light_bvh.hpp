@@ -211,7 +211,9 @@ struct LaneEncoder {
         }
         u = static_cast<std::uint32_t>(std::clamp(std::round(127.0 * x + 127.0), 0.0, 254.0));
         v = static_cast<std::uint32_t>(std::clamp(std::round(127.0 * y + 127.0), 0.0, 254.0));
-        const glm::dvec3 decoded(octahedral_axis(u, v));
+        // The angle from the decoded axis as the draws read it, measured in double on the unit
+        // axis along it (the float one is unit only to rounding, which would hide small angles).
+        const glm::dvec3 decoded = glm::normalize(glm::dvec3(octahedral_axis(u, v)));
         cos_moved = glm::dot(decoded, n);
         sin_moved = glm::length(glm::cross(decoded, n));
         return true;

@@ -144,11 +144,13 @@ struct LightBvhBox {
 
 /// The grid on which the boxes of a group's children are stored: along each axis, corner code q
 /// (0 to 255) is `origin + q step`. `over(box)` makes the grid of a box, the box of the group's
-/// parent node: `step` is the smallest power of two with 255 step covering the box (at least
-/// 2^-22 times its largest coordinate, and at least FLT_MIN), and the builder keeps every corner
-/// of the tree a multiple of its own grid's step, so each corner inside a box comes out exactly,
-/// with or without fused multiply-adds, on any IEEE machine: the host and the device read the
-/// same boxes, which contain the lights by construction.
+/// parent node: `step` is the smallest power of two (at least FLT_MIN) with 255 step covering
+/// the box. Every corner the builder stores comes out exactly, with or without fused
+/// multiply-adds, on any IEEE machine: the root's corners are multiples of its step, so every
+/// corner below is a multiple of its own grid's step (a power of two no larger), and a corner
+/// is either a multiple of a step at least its ulp, or, where the step is finer than the ulps
+/// there, the light coordinate it rounds (a float, and a multiple of the step). The host and
+/// the device read the same boxes, which contain the lights by construction.
 struct LightBvhGrid {
     glm::vec3 origin{0.0f};
     glm::vec3 step{0.0f};
@@ -171,21 +173,15 @@ RESTIR_HOST_DEVICE inline float bits_float(std::uint32_t bits) noexcept {
     return __builtin_bit_cast(float, bits);
 }
 
-// The grid step over [lower, upper] along one axis (`LightBvhGrid::over`). The extent is exact
-// (both corners lie on the parent's grid); the rest works on bit patterns.
+// The grid step over [lower, upper] along one axis (`LightBvhGrid::over`): the power of two at
+// or above extent / 255, on the bit pattern, doubled once where extent * (1 / 255) rounded down
+// onto one below it (255 step is exact). The extent is exact: the corners are multiples of the
+// parent's step, at most 255 of them apart.
 RESTIR_HOST_DEVICE inline float grid_step(float lower, float upper) noexcept {
-    constexpr std::uint32_t exponent_bits = 0x7f800000u;
     const float extent = upper - lower;
-    // The power of two at or above extent / 255 (one more doubling where the product rounded
-    // down onto a power of two below it; 255 step is exact).
-    float step = bits_float((float_bits(extent * (1.0f / 255.0f)) + 0x007fffffu) & exponent_bits);
+    float step = bits_float((float_bits(extent * (1.0f / 255.0f)) + 0x007fffffu) & 0x7f800000u);
     step = 255.0f * step < extent ? 2.0f * step : step;
-    // At least 2^(e - 22) for coordinates below 2^(e + 1): multiples of it in the box are floats.
-    const std::uint32_t largest =
-        max_of(float_bits(lower) & 0x7fffffffu, float_bits(upper) & 0x7fffffffu) & exponent_bits;
-    const std::uint32_t floor = largest > (22u << 23u) ? largest - (22u << 23u) : 0u;
-    constexpr std::uint32_t smallest_normal = 0x00800000u;
-    return bits_float(max_of(max_of(float_bits(step), floor), smallest_normal));
+    return max_of(step, 0x1p-126f); // FLT_MIN: no subnormal steps
 }
 
 // A unit axis from its octahedral codes (each 0 to 254, 127 the middle): the octahedron's point
