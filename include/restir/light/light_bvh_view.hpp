@@ -284,10 +284,20 @@ struct alignas(64) LightBvhGroup {
         n.child_or_light = child_or_light[lane];
         return n;
     }
-    /// The importance bounds of the children at `at` (`light_importance` of each `node`),
-    /// their boxes on `grid`, and their sum.
+    /// The importance bounds of the children at `at` (`light_importance` of each `node`, their
+    /// boxes on `grid`), and their sum, added lane by lane.
     RESTIR_HOST_DEVICE float importance(const ShadingPoint& at, const LightBvhGrid& grid,
-                                        float (&out)[lanes]) const;
+                                        float (&out)[lanes]) const {
+        bounds(at, grid, out);
+        float total = 0.0f;
+        RESTIR_UNROLL
+        for (std::uint32_t c = 0u; c < lanes; ++c)
+            total += out[c];
+        return total;
+    }
+    /// The importance bounds alone (what `importance` writes to `out`).
+    RESTIR_HOST_DEVICE void bounds(const ShadingPoint& at, const LightBvhGrid& grid,
+                                   float (&out)[lanes]) const;
 
 private:
     // The centre and half diagonal of lane `lane`'s box, from the codes: (lower + upper) / 2
@@ -313,9 +323,8 @@ private:
 static_assert(std::is_trivially_copyable_v<LightBvhGroup>);
 static_assert(sizeof(LightBvhGroup) == 16u * LightBvhGroup::lanes);
 
-RESTIR_HOST_DEVICE inline float LightBvhGroup::importance(const ShadingPoint& at,
-                                                          const LightBvhGrid& grid,
-                                                          float (&out)[lanes]) const {
+RESTIR_HOST_DEVICE inline void
+LightBvhGroup::bounds(const ShadingPoint& at, const LightBvhGrid& grid, float (&out)[lanes]) const {
     // The fields decoded and spelled out rather than light_importance(node(c, grid), at): that
     // spelling vectorised less reliably and made batch draws slower (docs/performance.md,
     // "Measured and rejected"). This loop is a draw's inner cost; check BM_LightBvh_SampleBatch
@@ -331,12 +340,25 @@ RESTIR_HOST_DEVICE inline float LightBvhGroup::importance(const ShadingPoint& at
             detail::cone_cos(cone[c]), detail::cone_sin(cone[c]), detail::emission_cos(emission[c]),
             detail::bfloat16_value(power[c]), at);
     }
-    float total = 0.0f;
-    RESTIR_UNROLL
-    for (std::uint32_t c = 0u; c < lanes; ++c)
-        total += out[c];
-    return total;
 }
+
+namespace detail {
+// The sum of a group's bounds as a descent weighs them: in pairs, then pairs of pairs (half the
+// chain of adding them in turn, which a draw waits for at every level).
+RESTIR_HOST_DEVICE inline float pairwise_total(const float (&bounds)[LightBvhGroup::lanes]) {
+    float sums[LightBvhGroup::lanes];
+    RESTIR_UNROLL
+    for (std::uint32_t c = 0u; c < LightBvhGroup::lanes; ++c)
+        sums[c] = bounds[c];
+    RESTIR_UNROLL
+    for (std::uint32_t width = LightBvhGroup::lanes / 2u; width > 0u; width /= 2u) {
+        RESTIR_UNROLL
+        for (std::uint32_t c = 0u; c < width; ++c)
+            sums[c] = sums[2u * c] + sums[2u * c + 1u];
+    }
+    return sums[0];
+}
+} // namespace detail
 
 /// The flat tree as a `ContextLightSampler` (concepts.hpp). A view: the `LightBvh` it came
 /// from must outlive it (for a kernel, copy its arrays to the device and point a copy of
@@ -424,7 +446,8 @@ struct LightBvhView {
         for (std::uint32_t level = 0u; level < depth; ++level) {
             const LightBvhGroup& g = groups[group];
             float importance[arity];
-            const float total = g.importance(at, grid, importance);
+            g.bounds(at, grid, importance);
+            const float total = detail::pairwise_total(importance);
             if (!(total > 0.0f))
                 return 0.0f;
             const auto child = static_cast<std::uint32_t>(
@@ -462,7 +485,23 @@ private:
         const LightBvhGroup& g = groups[d.group];
         prefetch_children(g);
         float importance[arity];
-        const float total = g.importance(at, d.grid, importance);
+        g.bounds(at, d.grid, importance);
+#if !defined(__CUDA_ARCH__)
+        // On a CPU, every lane's grid side by side, while the bounds compute: the chosen one is
+        // then a load rather than a chain of operations before the next level can start.
+        float origins[3][arity], cells[3][arity];
+        RESTIR_VECTORIZE
+        for (std::uint32_t c = 0u; c < arity; ++c) {
+            const LightBvhBox box = g.box(c, d.grid);
+            origins[0][c] = box.lower.x;
+            origins[1][c] = box.lower.y;
+            origins[2][c] = box.lower.z;
+            cells[0][c] = detail::grid_step(box.lower.x, box.upper.x);
+            cells[1][c] = detail::grid_step(box.lower.y, box.upper.y);
+            cells[2][c] = detail::grid_step(box.lower.z, box.upper.z);
+        }
+#endif
+        const float total = detail::pairwise_total(importance);
         if (!(total > 0.0f)) { // no child can light `at`
             d.done = true;
             return;
@@ -509,7 +548,12 @@ private:
             return;
         }
         d.group = g.child_or_light[child];
+#if defined(__CUDA_ARCH__)
         d.grid = g.child_grid(child, d.grid);
+#else
+        d.grid = {glm::vec3(origins[0][child], origins[1][child], origins[2][child]),
+                  glm::vec3(cells[0][child], cells[1][child], cells[2][child])};
+#endif
         d.u = min_of(max_of((x - start) / chosen, 0.0f), 0x1.fffffep-1f);
         ++d.depth;
     }
