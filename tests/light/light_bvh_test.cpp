@@ -559,6 +559,21 @@ TEST(LightBvh, RejectsLightsWithBadPowerOrPosition) {
     }
 }
 
+// Positions whose squared distances would overflow a float (and whose boxes' extents could) are
+// rejected too.
+TEST(LightBvh, RejectsPositionsBeyond2To64) {
+    const std::vector<LightBounds> far = {
+        restir::point_light_bounds(glm::vec3(0.0f), glm::vec3(0.0f, 0.0f, 1.0f), 1.0f),
+        restir::point_light_bounds(glm::vec3(0.0f, -3.0e38f, 0.0f), glm::vec3(0.0f, 0.0f, 1.0f),
+                                   1.0f)};
+    EXPECT_THROW(restir::LightBvh{far}, std::invalid_argument);
+    const std::vector<LightBounds> near = {
+        restir::point_light_bounds(glm::vec3(0x1p64f), glm::vec3(0.0f, 0.0f, 1.0f), 1.0f),
+        restir::point_light_bounds(glm::vec3(-0x1p64f), glm::vec3(0.0f, 0.0f, 1.0f), 1.0f)};
+    const restir::LightBvh bvh(near);
+    EXPECT_EQ(bvh.view().light_count(), 2u);
+}
+
 TEST(LightBvh, PowerAndUniformSamplersIgnoreTheShadingPoint) {
     const std::vector<float> powers = {1.0f, 3.0f, 0.5f, 2.0f};
     const restir::AliasTable table(powers);

@@ -168,9 +168,9 @@ struct LaneEncoder {
             // theta_o + grow < pi: grow < pi - theta_o.
             if (sin_grow >= 0.0 && cos_grow > -cos_o) {
                 const double wanted_cos = cos_o * cos_grow - sin_o * sin_grow;
-                cone = static_cast<std::uint32_t>(std::clamp(
-                    std::ceil(255.0 * std::sqrt(std::max(0.5 * (1.0 - wanted_cos), 0.0))), 0.0,
-                    255.0));
+                const double half_sine = std::sqrt(std::max(0.5 * (1.0 - wanted_cos), 0.0));
+                cone = static_cast<std::uint32_t>(
+                    std::clamp(std::ceil(255.0 * std::sqrt(half_sine)), 0.0, 255.0));
                 while (cone < 255u && static_cast<double>(cone_cos(cone)) > wanted_cos)
                     ++cone;
             }
@@ -838,10 +838,10 @@ private:
             count[k] = bounds.count;
         }
 
-        // The SAOH cost (Conty Estevez and Kulla 2018, Sec. 4.4) of each side: its power times
-        // the orientation measure of its cone times the surface area of its box, times the
-        // axis's thin-box factor. The cone is estimated as the spread of the lights' axes (the
-        // half diagonal of their box seen from its centre) plus their widest own cone: a split
+        // The SAOH cost (the orientation-aware SAH of Conty Estevez and Kulla 2018) of each side:
+        // its power times the orientation measure of its cone times the surface area of its box,
+        // times the axis's thin-box factor. The cone is estimated as the spread of the lights' axes
+        // (the half diagonal of their box seen from its centre) plus their widest own cone: a split
         // heuristic needs no exact cone.
         void saoh_costs(std::uint32_t used) {
             const std::uint32_t whole = (used + vector - 1u) / vector * vector;
@@ -880,7 +880,7 @@ private:
                 const bool sphere = cos_own <= -cos_spread;
                 const float cos_o = sphere ? -1.0f : cos_spread * cos_own - sin_spread * sin_own;
                 const float sin_o = sphere ? 0.0f : sin_spread * cos_own + cos_spread * sin_own;
-                // M_Omega (Conty Estevez and Kulla 2018, Eq. 1) with theta_w = min(theta_o +
+                // M_Omega (Conty Estevez and Kulla 2018, the SAOH) with theta_w = min(theta_o +
                 // theta_e, pi): where theta_o + theta_e <= pi, theta_w - theta_o = theta_e and
                 // cos(theta_o - 2 theta_w) = cos(theta_o + 2 theta_e); else pi - theta_o and
                 // cos(theta_o).

@@ -198,15 +198,21 @@ RESTIR_HOST_DEVICE inline glm::vec3 octahedral_axis(std::uint32_t u, std::uint32
     return {folded_x * inverse_length, folded_y * inverse_length, z * inverse_length};
 }
 
-// cos(theta_o) and sin(theta_o) from the cone code q = 255 sin(theta_o / 2), rounded up: 0 is
-// theta_o = 0, 255 is pi (both exact), steps of about 0.45 degrees near 0.
-RESTIR_HOST_DEVICE inline float cone_cos(std::uint32_t code) noexcept {
+// cos(theta_o) and sin(theta_o) from the cone code q, (q / 255)^2 = sin(theta_o / 2) rounded up:
+// 0 is theta_o = 0 and 255 is pi (both exact); code 1 is 3e-5 radians, so the narrow cones of
+// emitters whose axis the octahedral codes hold exactly (axis-aligned walls, lights facing
+// down) stay narrow; steps of 0.45 degrees near 30, 0.7 near 60 and 2 near 120 degrees.
+RESTIR_HOST_DEVICE inline float cone_half_sine(std::uint32_t code) noexcept {
     const float s = static_cast<float>(code) * (1.0f / 255.0f);
-    return 1.0f - 2.0f * s * s;
+    return s * s;
+}
+RESTIR_HOST_DEVICE inline float cone_cos(std::uint32_t code) noexcept {
+    const float h = cone_half_sine(code);
+    return 1.0f - 2.0f * h * h;
 }
 RESTIR_HOST_DEVICE inline float cone_sin(std::uint32_t code) noexcept {
-    const float s = static_cast<float>(code) * (1.0f / 255.0f);
-    return 2.0f * s * std::sqrt(max_of(1.0f - s * s, 0.0f));
+    const float h = cone_half_sine(code);
+    return 2.0f * h * std::sqrt(max_of(1.0f - h * h, 0.0f));
 }
 
 // cos(theta_e) from its code: (q - 128) / 128, rounded down (0 and -1 exact; 1 becomes 127/128).
@@ -247,7 +253,7 @@ struct alignas(64) LightBvhGroup {
     std::uint8_t lower[3][lanes], upper[3][lanes];
     /// The cone axis: octahedral codes 0 to 254 (`detail::octahedral_axis`).
     std::uint8_t axis_u[lanes], axis_v[lanes];
-    /// 255 sin(theta_o / 2), rounded up (`detail::cone_cos`, `detail::cone_sin`).
+    /// 255 sqrt(sin(theta_o / 2)), rounded up (`detail::cone_cos`, `detail::cone_sin`).
     std::uint8_t cone[lanes];
     /// 128 + 128 cos(theta_e), rounded down (`detail::emission_cos`).
     std::uint8_t emission[lanes];
