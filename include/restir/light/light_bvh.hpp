@@ -381,13 +381,13 @@ private:
     };
 
     static constexpr std::uint32_t bucket_count = 12u;
+    // Parts of at most this many lights are split by `split_few`, over every position.
+    static constexpr std::uint32_t few = 16u;
 
     // acos, quick for the commonest cones (a one-sided emitter's and a point's).
     static float angle_of(float cosine) {
         return cosine >= 1.0f ? 0.0f : cosine <= -1.0f ? 3.14159265358979f : std::acos(cosine);
     }
-    // Parts of at most this many lights are split by `split_few`, over every position.
-    static constexpr std::uint32_t few = 16u;
 
     static bool is_usable_box(const LightBounds& l) {
         constexpr float limit = 0x1p64f;
@@ -451,12 +451,11 @@ private:
                 below = build(items, part, group, depth + 1u, child_path, child_grid);
             }
             // The cone's cosine and sine: a light's own, or from the merged angle.
-            double cos_o = std::cos(static_cast<double>(below.theta_o));
-            double sin_o = std::sin(static_cast<double>(below.theta_o));
-            if (part.size() == 1u) {
-                cos_o = static_cast<double>(items[part.begin].least[cos_theta_o_field]);
-                sin_o = std::sqrt(std::max(1.0 - cos_o * cos_o, 0.0));
-            }
+            const double cos_o =
+                part.size() == 1u ? static_cast<double>(items[part.begin].least[cos_theta_o_field])
+                                  : std::cos(static_cast<double>(below.theta_o));
+            const double sin_o = part.size() == 1u ? std::sqrt(std::max(1.0 - cos_o * cos_o, 0.0))
+                                                   : std::sin(static_cast<double>(below.theta_o));
             detail::LaneEncoder::emission(groups_[index], c, below.axis, cos_o, sin_o,
                                           below.cos_theta_e, below.power);
             if (c == 0u)
