@@ -1,10 +1,11 @@
 // Microbenchmarks of the light BVH (restir/light/light_bvh.hpp) at 1k and 1M lights: building
-// it, one draw (`BM_LightBvh_Sample`) and one pmf at a shading point, beside one draw of the
-// power sampler (alias table) over the same lights, a draw with a distant light beside the tree
-// (`BM_LightBvh_SampleWithDistant`), and `BM_RandomRead`: the machine's time for
-// one read that depends on the last, at random places in arrays of 1-64 MB, the floor under a
-// draw whose data does not fit in cache. `BM_Environment_Sample` and `BM_Environment_Pdf`: one
-// draw and one pdf of an environment light (restir/light/environment_map.hpp) at 1024 x 512 and
+// it (its size in the counters), one draw (`BM_LightBvh_Sample`) and one pmf at a shading
+// point, beside one draw of the power sampler (alias table) over the same lights, a draw with a
+// distant light beside the tree (`BM_LightBvh_SampleWithDistant`), and `BM_RandomRead`: the
+// machine's time for one read that depends on the last, at random places in arrays of 1-64 MB
+// (and, `BM_RandomRead_LightBvhSize`, of the 1M-light tree's size), the floor under a draw
+// whose data does not fit in cache. `BM_Environment_Sample` and `BM_Environment_Pdf`: one draw
+// and one pdf of an environment light (restir/light/environment_map.hpp) at 1024 x 512 and
 // 4096 x 2048, whose sampling tables (4 and 64 MiB, the `table_bytes` counter) BM_RandomRead
 // also covers.
 //
@@ -78,6 +79,12 @@ restir::ShadingPoint floor_point(std::uint32_t i) {
     return {glm::vec3(x, -1.0f, z), glm::vec3(0.0f, 1.0f, 0.0f)};
 }
 
+// The bytes a tree's view reads: its groups and its per-light paths.
+std::size_t tree_bytes(const restir::LightBvh& tree) {
+    return tree.groups().size() * sizeof(restir::LightBvhGroup) +
+           tree.paths().size() * sizeof(std::uint64_t);
+}
+
 void BM_LightBvh_Build(benchmark::State& state) {
     const auto& input = lights(static_cast<std::uint32_t>(state.range(0)));
     for (auto _ : state) {
@@ -85,6 +92,11 @@ void BM_LightBvh_Build(benchmark::State& state) {
         benchmark::DoNotOptimize(built.groups().data());
     }
     state.SetItemsProcessed(state.iterations() * state.range(0));
+    const restir::LightBvh& tree = bvh(static_cast<std::uint32_t>(state.range(0)));
+    state.counters["groups"] = static_cast<double>(tree.groups().size());
+    state.counters["tree_bytes"] = static_cast<double>(tree_bytes(tree));
+    state.counters["bytes_per_light"] =
+        static_cast<double>(tree_bytes(tree)) / static_cast<double>(state.range(0));
 }
 BENCHMARK(BM_LightBvh_Build)->Arg(1000)->Arg(1 << 20)->Unit(benchmark::kMillisecond);
 
@@ -178,14 +190,13 @@ void BM_PowerSampler_Sample(benchmark::State& state) {
 BENCHMARK(BM_PowerSampler_Sample)->Arg(1000)->Arg(1 << 20);
 
 // A chain of dependent reads through one random cycle over 64-byte lines of an array of
-// state.range(0) MiB (Sattolo's shuffle): each read waits for the one before, as the levels of
-// a descent do.
-void BM_RandomRead(benchmark::State& state) {
+// `bytes` (Sattolo's shuffle): each read waits for the one before, as the levels of a descent
+// do.
+void time_random_reads(benchmark::State& state, std::size_t bytes) {
     struct alignas(64) Line {
         std::uint32_t next;
     };
-    const auto count = static_cast<std::uint32_t>(
-        (std::size_t{1} << 20u) * static_cast<std::size_t>(state.range(0)) / sizeof(Line));
+    const auto count = static_cast<std::uint32_t>(bytes / sizeof(Line));
     std::vector<Line> lines(count);
     std::vector<std::uint32_t> order(count);
     for (std::uint32_t i = 0u; i < count; ++i)
@@ -203,8 +214,20 @@ void BM_RandomRead(benchmark::State& state) {
     state.SetItemsProcessed(state.iterations());
     state.counters["bytes"] = static_cast<double>(std::size_t{count} * sizeof(Line));
 }
+
+// Random reads in state.range(0) MiB.
+void BM_RandomRead(benchmark::State& state) {
+    time_random_reads(state, (std::size_t{1} << 20u) * static_cast<std::size_t>(state.range(0)));
+}
 // 4 and 64 MiB are also the environment light's sampling tables at 1024 x 512 and 4096 x 2048.
-BENCHMARK(BM_RandomRead)->Arg(1)->Arg(4)->Arg(8)->Arg(16)->Arg(64);
+BENCHMARK(BM_RandomRead)->Arg(1)->Arg(4)->Arg(8)->Arg(16)->Arg(32)->Arg(64);
+
+// Random reads in as many bytes as the light BVH over state.range(0) lights (its groups and
+// paths): `BM_LightBvh_Sample` of the same count over this is the draw's cost in random reads.
+void BM_RandomRead_LightBvhSize(benchmark::State& state) {
+    time_random_reads(state, tree_bytes(bvh(static_cast<std::uint32_t>(state.range(0)))));
+}
+BENCHMARK(BM_RandomRead_LightBvhSize)->Arg(1 << 20);
 
 // A sky of width x (width / 2) texels: a gradient from a bright zenith to a dark ground, bluer
 // away from the sun, and a sun of radius 0.5 degrees at 10^4 times the sky's radiance.

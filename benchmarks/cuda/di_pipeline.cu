@@ -420,7 +420,9 @@ int run_benchmark(const Options& o) {
         d.lights = {upload(std::vector<box::Emitters>{device_emitters}), upload(vpls),
                     host_lights.vpl_count};
         d.power = {upload(table_entries), table.size()};
-        d.bvh = {upload(bvh.groups()), upload(bvh.paths()), bvh.view().count};
+        d.bvh = bvh.view(); // the root's box with it
+        d.bvh.groups = upload(bvh.groups());
+        d.bvh.paths = upload(bvh.paths());
         point_device(d, pixels, entries);
     }
 

@@ -398,7 +398,9 @@ int main() {
             position, i % 3u == 0u ? glm::vec3(0.0f) : glm::vec3(0.0f, -1.0f, 0.0f), power[i]);
     }
     const restir::LightBvh bvh(bounds);
-    const restir::LightBvhView device_bvh{upload(bvh.groups()), upload(bvh.paths()), light_count};
+    restir::LightBvhView device_bvh = bvh.view(); // the root's box with it
+    device_bvh.groups = upload(bvh.groups());
+    device_bvh.paths = upload(bvh.paths());
     BvhResult* device_bvh_out = nullptr;
     cudaMalloc(&device_bvh_out, pixels * sizeof(BvhResult));
     bvh_kernel<<<(pixels + 127) / 128, 128>>>(device_bvh, pixels, device_bvh_out);

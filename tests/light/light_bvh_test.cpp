@@ -76,6 +76,12 @@ std::vector<LightBounds> point_bounds_of(const std::vector<TestLight>& lights) {
     return bounds;
 }
 
+// A fixed direction for index i (the VPLs' normals in the grazing test).
+glm::vec3 random_direction_of(std::uint32_t i) {
+    restir::Pcg32 rng = restir::make_pixel_rng(i, 1u, 0u, 103u);
+    return random_direction(rng);
+}
+
 ShadingPoint random_point(restir::Pcg32& rng) {
     const glm::vec3 p(next_float(rng), next_float(rng), next_float(rng));
     return {-2.0f + 14.0f * p, random_direction(rng)};
@@ -90,6 +96,22 @@ float point_irradiance(const TestLight& l, const ShadingPoint& at) {
     const bool isotropic = l.normal == glm::vec3(0.0f);
     const float emitter = isotropic ? 0.25f : std::max(0.0f, -glm::dot(l.normal, w)) / 3.1415927f;
     return l.power * receiver * emitter / d2;
+}
+
+// The grid each group's boxes are stored on (its parent's box's), by a walk from the root: a
+// group comes after its parent.
+std::vector<restir::LightBvhGrid> group_grids(const restir::LightBvh& bvh) {
+    std::vector<restir::LightBvhGrid> grids(bvh.groups().size());
+    if (grids.empty())
+        return grids;
+    grids[0] = bvh.view().root_grid();
+    for (std::size_t index = 0u; index < grids.size(); ++index) {
+        const restir::LightBvhGroup& group = bvh.groups()[index];
+        for (std::uint32_t c = 0u; c < restir::LightBvhGroup::lanes; ++c)
+            if (!group.is_leaf(c))
+                grids[group.child_or_light[c]] = group.child_grid(c, grids[index]);
+    }
+    return grids;
 }
 
 // The pmf is positive wherever a point light lights the point, sums to at most one (the rest
@@ -180,6 +202,218 @@ TEST(LightBvh, RisWithBvhCandidatesIsUnbiasedAt1kLights) { check_ris_unbiased(10
 
 TEST(LightBvh, RisWithBvhCandidatesIsUnbiasedAt1MLights) { check_ris_unbiased(1u << 20u); }
 
+// Every light's bounds hold within the quantised bounds of each node on its path (the lanes
+// its descent weighs): its box inside the lane's box, its cone of normals inside the lane's
+// cone, its emission spread within the lane's, a positive power wherever it has one; and each
+// corner on a grid comes out exactly (the same in float and in double).
+void check_quantised_bounds(const std::vector<LightBounds>& bounds) {
+    const restir::LightBvh bvh(bounds);
+    const restir::LightBvhView view = bvh.view();
+    const auto angle_between = [](glm::vec3 a, glm::vec3 b) {
+        const glm::dvec3 x(a), y(b);
+        return std::atan2(glm::length(glm::cross(x, y)), glm::dot(x, y));
+    };
+    for (std::uint32_t id = 0; id < bounds.size(); ++id) {
+        const LightBounds& light = bounds[id];
+        const std::uint64_t path = view.paths[id];
+        const auto depth = static_cast<std::uint32_t>(path >> restir::LightBvhView::depth_shift);
+        ASSERT_LE(depth, restir::LightBvhView::max_depth);
+        std::uint32_t group = 0u;
+        restir::LightBvhGrid grid = view.root_grid();
+        for (std::uint32_t level = 0; level < depth; ++level) {
+            const auto lane =
+                static_cast<std::uint32_t>(path >> (restir::LightBvhGroup::lane_bits * level) &
+                                           (restir::LightBvhGroup::lanes - 1u));
+            const restir::LightBvhGroup& g = view.groups[group];
+            const restir::LightBvhBox box = g.box(lane, grid);
+            const restir::LightBvhNode node = g.node(lane, grid);
+            for (int a = 0; a < 3; ++a) {
+                ASSERT_LE(box.lower[a], light.lower[a]) << "light " << id << ", level " << level;
+                ASSERT_GE(box.upper[a], light.upper[a]) << "light " << id << ", level " << level;
+                const auto exact = [&](std::uint32_t code, float corner) {
+                    return static_cast<double>(grid.origin[a]) +
+                               code * static_cast<double>(grid.step[a]) ==
+                           static_cast<double>(corner);
+                };
+                ASSERT_TRUE(exact(g.lower[a][lane], box.lower[a]));
+                ASSERT_TRUE(exact(g.upper[a][lane], box.upper[a]));
+            }
+            if (node.cos_theta_o > -1.0f) { // else the lane's cone is the sphere
+                const double light_theta = std::acos(static_cast<double>(light.cos_theta_o));
+                ASSERT_LE(angle_between(node.axis, light.axis) + light_theta,
+                          std::acos(static_cast<double>(node.cos_theta_o)))
+                    << "light " << id << ", level " << level;
+            }
+            ASSERT_LE(node.cos_theta_e, light.cos_theta_e) << "light " << id;
+            ASSERT_GE(node.power, light.power) << "light " << id;
+            if (level + 1u == depth) {
+                ASSERT_TRUE(g.is_leaf(lane));
+                ASSERT_EQ(g.child_or_light[lane], restir::LightBvhNode::leaf_bit | id);
+            }
+            grid = g.child_grid(lane, grid);
+            group = g.child_or_light[lane];
+        }
+    }
+}
+
+TEST(LightBvh, QuantisedBoundsHoldEveryLight) {
+    check_quantised_bounds(bounds_of(test_lights(20000u, 61u)));
+    // A cluster of small lights far from the origin, 10 ulps of its coordinates wide, where the
+    // grid steps are finer than those ulps, and lights whose normals lie on the octahedron's
+    // folds.
+    std::vector<TestLight> far = test_lights(3000u, 62u);
+    for (std::uint32_t i = 0; i < far.size(); ++i) {
+        far[i].position = glm::vec3(1.0e4f, -3.0e4f, 5.0e3f) + 1.0e-3f * far[i].position;
+        if (i % 7u == 0u)
+            far[i].normal = glm::normalize(glm::vec3(1.0f, i % 2u == 0u ? -1.0f : 1.0f, 0.0f));
+    }
+    check_quantised_bounds(bounds_of(far));
+    check_quantised_bounds(point_bounds_of(test_lights(5u, 63u)));
+}
+
+// Lights in a few tight clusters of very different powers: the cost splits them unevenly, so
+// paths are longer than log8 n; the draws still follow the pmf.
+TEST(LightBvh, DrawsLightsWithItsPmfInClusters) {
+    std::vector<TestLight> lights = test_lights(3000u, 71u);
+    for (std::uint32_t i = 0; i < lights.size(); ++i) {
+        const float cluster = static_cast<float>(i % 5u);
+        lights[i].position = glm::vec3(2.0f * cluster, 5.0f, 5.0f) + 0.05f * lights[i].position;
+        lights[i].power *= std::exp(2.0f * cluster);
+    }
+    const restir::LightBvh bvh(bounds_of(lights));
+    const restir::LightBvhView view = bvh.view();
+    restir::Pcg32 rng = restir::make_pixel_rng(7u, 0u, 0u, 72u);
+    for (int k = 0; k < 3; ++k) {
+        const ShadingPoint at = random_point(rng);
+        std::vector<double> expected(lights.size() + 1u), observed(lights.size() + 1u, 0.0);
+        double total = 0.0;
+        constexpr std::uint32_t draws = 200000u;
+        for (std::uint32_t id = 0; id < lights.size(); ++id) {
+            const double pmf = static_cast<double>(view.pmf(at, id));
+            total += pmf;
+            expected[id] = pmf * draws;
+        }
+        expected[lights.size()] = std::max(0.0, 1.0 - total) * draws;
+        for (std::uint32_t i = 0; i < draws; ++i) {
+            const restir::DiscreteSample s = restir::sample_light(view, at, rng);
+            observed[s.pmf > 0.0f ? s.index : lights.size()] += 1.0;
+        }
+        const restir::test::Chi2Result chi2 = restir::test::pearson_chi2(observed, expected);
+        EXPECT_GT(chi2.p_value, restir::test::sidak_significance(0.01, 3)) << "point " << k;
+    }
+}
+
+// A line of point lights whose powers grow geometrically: the cost would isolate the
+// brightest few at every level, making paths longer than their bits hold; the builder falls
+// back to medians before that, so every path fits and every draw's pmf is `pmf`'s.
+TEST(LightBvh, PathsFitTheirBitsWhereTheCostIsolatesLights) {
+    std::vector<LightBounds> bounds;
+    for (int i = 0; i < 2000; ++i)
+        bounds.push_back(restir::point_light_bounds(glm::vec3(static_cast<float>(i), 0.0f, 0.0f),
+                                                    glm::vec3(0.0f, 0.0f, 1.0f),
+                                                    std::exp(0.2f * static_cast<float>(i % 400))));
+    const restir::LightBvh bvh(bounds);
+    const restir::LightBvhView view = bvh.view();
+    std::uint32_t deepest = 0u;
+    for (const std::uint64_t path : bvh.paths())
+        deepest = std::max(deepest,
+                           static_cast<std::uint32_t>(path >> restir::LightBvhView::depth_shift));
+    ASSERT_LE(deepest, restir::LightBvhView::max_depth);
+    EXPECT_GT(deepest, 8u); // deeper than a balanced tree: the fallback was needed
+    restir::Pcg32 rng = restir::make_pixel_rng(8u, 0u, 0u, 81u);
+    for (int k = 0; k < 20; ++k) {
+        const ShadingPoint at{glm::vec3(2000.0f * next_float(rng), 3.0f, 10.0f),
+                              glm::vec3(0.0f, 0.0f, -1.0f)};
+        double total = 0.0;
+        for (std::uint32_t id = 0; id < bounds.size(); ++id)
+            total += static_cast<double>(view.pmf(at, id));
+        EXPECT_NEAR(total, 1.0, 1e-4);
+        for (int i = 0; i < 1000; ++i) {
+            const restir::DiscreteSample s = restir::sample_light(view, at, rng);
+            ASSERT_GT(s.pmf, 0.0f);
+            ASSERT_EQ(s.pmf, view.pmf(at, s.index));
+        }
+    }
+}
+
+// The pmf sums to one over the lights: exactly (to float rounding) where every node's bound is
+// positive (isotropic lights seen without a receiver normal), and elsewhere to one less the
+// probability of the draws that end where no child can light the point, found by a walk of
+// the tree in double precision.
+double dead_end_mass(const restir::LightBvhView& view, std::uint32_t group,
+                     const restir::LightBvhGrid& grid, const ShadingPoint& at, double reach) {
+    const restir::LightBvhGroup& g = view.groups[group];
+    float importance[restir::LightBvhGroup::lanes];
+    const float total = g.importance(at, grid, importance);
+    if (!(total > 0.0f))
+        return reach;
+    double dead = 0.0;
+    for (std::uint32_t c = 0u; c < restir::LightBvhGroup::lanes; ++c)
+        if (!g.is_leaf(c) && importance[c] > 0.0f)
+            dead += dead_end_mass(view, g.child_or_light[c], g.child_grid(c, grid), at,
+                                  reach * static_cast<double>(importance[c]) /
+                                      static_cast<double>(total));
+    return dead;
+}
+
+TEST(LightBvh, PmfSumsToOneOverTheLightsThatCanContribute) {
+    std::vector<TestLight> lights = test_lights(5000u, 91u);
+    const restir::LightBvh mixed(bounds_of(lights));
+    for (TestLight& l : lights)
+        l.normal = glm::vec3(0.0f);
+    const restir::LightBvh isotropic(point_bounds_of(lights));
+    restir::Pcg32 rng = restir::make_pixel_rng(9u, 0u, 0u, 92u);
+    for (int k = 0; k < 10; ++k) {
+        ShadingPoint at = random_point(rng);
+        const auto sum = [&](const restir::LightBvhView& view) {
+            double total = 0.0;
+            for (std::uint32_t id = 0; id < lights.size(); ++id)
+                total += static_cast<double>(view.pmf(at, id));
+            return total;
+        };
+        const restir::LightBvhView view = mixed.view();
+        const double dead = dead_end_mass(view, 0u, view.root_grid(), at, 1.0);
+        EXPECT_NEAR(sum(view), 1.0 - dead, 1e-5) << "point " << k;
+        at.normal = glm::vec3(0.0f);
+        EXPECT_NEAR(sum(isotropic.view()), 1.0, 1e-5) << "point " << k;
+    }
+}
+
+// A light that lights a point always has a positive pmf there, however near the edge of its
+// emission or of the receiver's hemisphere the point lies: a tenth of a degree inside either,
+// where bounds rounded inward (a box or a cone a step too small) would give it none.
+TEST(LightBvh, GrazingLightsKeepAPositivePmf) {
+    std::vector<TestLight> lights = test_lights(2000u, 101u);
+    for (std::uint32_t i = 0; i < lights.size(); i += 2u) // half of them VPLs, the rest isotropic
+        lights[i].normal = random_direction_of(i);
+    const restir::LightBvh bvh(point_bounds_of(lights));
+    const restir::LightBvhView view = bvh.view();
+    const float grazing = std::sin(0.1f * 3.14159265f / 180.0f);
+    restir::Pcg32 rng = restir::make_pixel_rng(10u, 0u, 0u, 102u);
+    std::uint32_t checked = 0u;
+    for (std::uint32_t id = 0; id < lights.size(); ++id) {
+        const TestLight& l = lights[id];
+        const glm::vec3 normal = l.normal == glm::vec3(0.0f) ? random_direction(rng) : l.normal;
+        for (int k = 0; k < 4; ++k) {
+            // A direction `grazing` above the emitter's horizon (or any, for an isotropic one).
+            const glm::vec3 side = glm::normalize(glm::cross(normal, random_direction(rng)));
+            const glm::vec3 out = l.normal == glm::vec3(0.0f)
+                                      ? random_direction(rng)
+                                      : glm::normalize(side + grazing * normal);
+            const glm::vec3 position = l.position + (0.5f + 3.0f * next_float(rng)) * out;
+            // A receiver normal `grazing` above the plane that holds the light, or facing it.
+            const glm::vec3 across = glm::normalize(glm::cross(out, random_direction(rng)));
+            const glm::vec3 receiver = k % 2 == 0 ? glm::normalize(across - grazing * out) : -out;
+            const ShadingPoint at{position, receiver};
+            if (!(point_irradiance(l, at) > 0.0f))
+                continue;
+            ++checked;
+            ASSERT_GT(view.pmf(at, id), 0.0f) << "light " << id << ", case " << k;
+        }
+    }
+    EXPECT_GT(checked, 4000u);
+}
+
 // A region (ShadingPoint::radius, a grid cell) gets a positive pmf for every point light that
 // lights any point of it, whatever that point's normal.
 TEST(LightBvh, RegionPmfCoversEveryPointOfTheRegion) {
@@ -233,9 +467,12 @@ TEST(LightBvh, PointsNoLightReachesDrawNothing) {
 TEST(LightBvh, GroupBoundsEqualEachChildsBound) {
     const std::vector<TestLight> lights = test_lights(5000u, 51u);
     const restir::LightBvh bvh(bounds_of(lights));
+    const std::vector<restir::LightBvhGrid> grids = group_grids(bvh);
     restir::Pcg32 rng = restir::make_pixel_rng(6u, 0u, 0u, 52u);
     std::uint32_t positive = 0u;
-    for (const restir::LightBvhGroup& group : bvh.groups()) {
+    for (std::size_t index = 0u; index < bvh.groups().size(); ++index) {
+        const restir::LightBvhGroup& group = bvh.groups()[index];
+        const restir::LightBvhGrid& grid = grids[index];
         for (int k = 0; k < 8; ++k) {
             ShadingPoint at = random_point(rng);
             if (k == 1)
@@ -243,12 +480,12 @@ TEST(LightBvh, GroupBoundsEqualEachChildsBound) {
             if (k == 2)
                 at.radius = 2.0f * next_float(rng);
             if (k == 3)
-                at.position = group.node(0u).centre;
+                at.position = group.node(0u, grid).centre;
             float bounds[restir::LightBvhGroup::lanes];
-            const float total = group.importance(at, bounds);
+            const float total = group.importance(at, grid, bounds);
             float sum = 0.0f;
             for (std::uint32_t c = 0u; c < restir::LightBvhGroup::lanes; ++c) {
-                const float expected = restir::light_importance(group.node(c), at);
+                const float expected = restir::light_importance(group.node(c, grid), at);
                 ASSERT_EQ(bounds[c], expected) << "lane " << c << ", point " << k;
                 positive += expected > 0.0f ? 1u : 0u;
                 sum += expected;
@@ -320,6 +557,21 @@ TEST(LightBvh, RejectsLightsWithBadPowerOrPosition) {
             EXPECT_THROW(restir::LightBvh{bounds}, std::invalid_argument);
         }
     }
+}
+
+// Positions whose squared distances would overflow a float (and whose boxes' extents could) are
+// rejected too.
+TEST(LightBvh, RejectsPositionsBeyond2To64) {
+    const std::vector<LightBounds> far = {
+        restir::point_light_bounds(glm::vec3(0.0f), glm::vec3(0.0f, 0.0f, 1.0f), 1.0f),
+        restir::point_light_bounds(glm::vec3(0.0f, -3.0e38f, 0.0f), glm::vec3(0.0f, 0.0f, 1.0f),
+                                   1.0f)};
+    EXPECT_THROW(restir::LightBvh{far}, std::invalid_argument);
+    const std::vector<LightBounds> near = {
+        restir::point_light_bounds(glm::vec3(0x1p64f), glm::vec3(0.0f, 0.0f, 1.0f), 1.0f),
+        restir::point_light_bounds(glm::vec3(-0x1p64f), glm::vec3(0.0f, 0.0f, 1.0f), 1.0f)};
+    const restir::LightBvh bvh(near);
+    EXPECT_EQ(bvh.view().light_count(), 2u);
 }
 
 TEST(LightBvh, PowerAndUniformSamplersIgnoreTheShadingPoint) {

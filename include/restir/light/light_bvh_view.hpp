@@ -1,14 +1,16 @@
 /// @file light/light_bvh_view.hpp
 /// A bounding volume hierarchy over lights for spatially aware light selection (Conty Estevez
 /// and Kulla 2018, "Importance Sampling of Many Lights with Adaptive Tree Splitting"), as device
-/// code reads it: flat groups of four children, sampled by `LightBvhView`. Every node bounds its
-/// lights' positions (a box, kept as its centre and half diagonal), their emitted power, and the
-/// directions they emit in (a cone of normals of half-angle theta_o, plus the emission spread
-/// theta_e beyond them). A light is drawn for a shading point by one stochastic descent that
-/// picks each child in proportion to an importance bound of its lights at the point; the pmf
-/// of a light is the product of the choices on its path, found by the same descent from the
-/// path's bits, so it is exact and RIS with it stays unbiased. The host builder is `LightBvh`
-/// (light/light_bvh.hpp).
+/// code reads it: flat groups of eight children, sampled by `LightBvhView`. Every node bounds its
+/// lights' positions (a box, weighed through its centre and half diagonal), their emitted power,
+/// and the directions they emit in (a cone of normals of half-angle theta_o, plus the emission
+/// spread theta_e beyond them). A light is drawn for a shading point by one stochastic descent
+/// that picks each child in proportion to an importance bound of its lights at the point; the
+/// pmf of a light is the product of the choices on its path, found by the same descent from the
+/// path's bits, so it is exact and RIS with it stays unbiased. The groups are quantised (128
+/// bytes for eight children): boxes in 8-bit steps of the parent's box, octahedral cone axes,
+/// 8-bit cone angles and bfloat16 powers, every bound rounded outward; the draw and the pmf read
+/// the same numbers. The host builder is `LightBvh` (light/light_bvh.hpp).
 #pragma once
 
 #include "restir/config.hpp"
@@ -23,10 +25,18 @@
 #include <cstdint>
 #include <type_traits>
 
+// A loop marked RESTIR_VECTORIZE that a build does not vectorise (no optimisation, sanitizers)
+// is only slower: no warning for it.
+#if defined(__clang__)
+#pragma clang diagnostic push
+#pragma clang diagnostic ignored "-Wpass-failed"
+#endif
+
 namespace restir {
 
 /// The bounds of one node (one light, or a group of lights) as `light_importance` weighs
-/// them: 48 bytes. The tree keeps them four by four, lane by lane, in `LightBvhGroup`s.
+/// them: 48 bytes. The tree keeps them quantised, eight by eight, in `LightBvhGroup`s
+/// (`LightBvhGroup::node` reads one back).
 struct LightBvhNode {
     glm::vec3 centre{0.0f};
     float radius = 0.0f; ///< Half the diagonal of the box.
@@ -55,13 +65,14 @@ RESTIR_HOST_DEVICE inline float sine_of(float cosine) noexcept {
 }
 
 // The importance bound of Conty Estevez and Kulla 2018 (Eq. 3) from a node's fields: the one
-// formula of `light_importance` and of the four lanes of a `LightBvhGroup`. Selects rather than
+// formula of `light_importance` and of the lanes of a `LightBvhGroup`. Selects rather than
 // branches throughout (the outcomes vary from node to node, and the lanes vectorise), as
 // `select_float`: with `?:` whether the lanes vectorise depends on the caller.
-RESTIR_HOST_DEVICE inline float importance_bound(glm::vec3 centre, float node_radius,
-                                                 glm::vec3 axis, float cos_theta_o,
-                                                 float sin_theta_o, float cos_theta_e, float power,
-                                                 const ShadingPoint& at) noexcept {
+RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE float importance_bound(glm::vec3 centre, float node_radius,
+                                                              glm::vec3 axis, float cos_theta_o,
+                                                              float sin_theta_o, float cos_theta_e,
+                                                              float power,
+                                                              const ShadingPoint& at) noexcept {
     // For a region (at.radius > 0) the node's sphere grows by the region's radius: every
     // direction from a point of the region to a point of the node lies within theta_b of the
     // direction between their centres.
@@ -125,106 +136,277 @@ RESTIR_HOST_DEVICE inline float light_importance(const LightBvhNode& node,
                                     node.sin_theta_o, node.cos_theta_e, node.power, at);
 }
 
-/// The children of one interior node of the flat tree, lane c for child c: a structure of
-/// arrays, so that the four importance bounds of a level compute side by side in vector
-/// registers. The fields are those of `LightBvhNode`; 192 bytes, three cache lines. An unused
-/// lane is a leaf without power, which no draw takes.
-struct alignas(64) LightBvhGroup {
-    static constexpr std::uint32_t lanes = 4u;
+/// A box: what `LightBvhGroup::box` returns.
+struct LightBvhBox {
+    glm::vec3 lower{0.0f};
+    glm::vec3 upper{0.0f};
+};
 
-    float centre_x[lanes], centre_y[lanes], centre_z[lanes];
-    float radius[lanes];
-    float axis_x[lanes], axis_y[lanes], axis_z[lanes];
-    float cos_theta_o[lanes], sin_theta_o[lanes], cos_theta_e[lanes];
-    float power[lanes];
+/// The grid on which the boxes of a group's children are stored: along each axis, corner code q
+/// (0 to 255) is `origin + q step`. `over(box)` makes the grid of a box, the box of the group's
+/// parent node: `step` is the smallest power of two (at least FLT_MIN) with 255 step covering
+/// the box. Every corner the builder stores comes out exactly, with or without fused
+/// multiply-adds, on any IEEE machine: the root's corners are multiples of its step, so every
+/// corner below is a multiple of its own grid's step (a power of two no larger), and a corner
+/// is either a multiple of a step at least its ulp, or, where the step is finer than the ulps
+/// there, the light coordinate it rounds (a float, and a multiple of the step). The host and
+/// the device read the same boxes, which contain the lights by construction.
+struct LightBvhGrid {
+    glm::vec3 origin{0.0f};
+    glm::vec3 step{0.0f};
+
+    /// The grid of box [lower, upper] (both corners multiples of their own grid's step).
+    RESTIR_HOST_DEVICE static LightBvhGrid over(glm::vec3 lower, glm::vec3 upper) noexcept;
+    /// Corner code `code` along `axis`.
+    RESTIR_HOST_DEVICE float corner(int axis, std::uint32_t code) const noexcept {
+        const float o = axis == 0 ? origin.x : axis == 1 ? origin.y : origin.z;
+        const float s = axis == 0 ? step.x : axis == 1 ? step.y : step.z;
+        return o + static_cast<float>(code) * s;
+    }
+};
+
+namespace detail {
+RESTIR_HOST_DEVICE inline std::uint32_t float_bits(float x) noexcept {
+    return __builtin_bit_cast(std::uint32_t, x);
+}
+RESTIR_HOST_DEVICE inline float bits_float(std::uint32_t bits) noexcept {
+    return __builtin_bit_cast(float, bits);
+}
+
+// The grid step over [lower, upper] along one axis (`LightBvhGrid::over`): the power of two at
+// or above extent / 255, on the bit pattern, doubled once where extent * (1 / 255) rounded down
+// onto one below it (255 step is exact). The extent is exact: the corners are multiples of the
+// parent's step, at most 255 of them apart.
+RESTIR_HOST_DEVICE inline float grid_step(float lower, float upper) noexcept {
+    const float extent = upper - lower;
+    float step = bits_float((float_bits(extent * (1.0f / 255.0f)) + 0x007fffffu) & 0x7f800000u);
+    step = 255.0f * step < extent ? 2.0f * step : step;
+    return max_of(step, 0x1p-126f); // FLT_MIN: no subnormal steps
+}
+
+// A unit axis from its octahedral codes (each 0 to 254, 127 the middle): the octahedron's point
+// (x, y, 1 - |x| - |y|), its lower half folded out, normalised (Cigolle et al. 2014).
+RESTIR_HOST_DEVICE inline glm::vec3 octahedral_axis(std::uint32_t u, std::uint32_t v) noexcept {
+    const float x = (static_cast<float>(u) - 127.0f) * (1.0f / 127.0f);
+    const float y = (static_cast<float>(v) - 127.0f) * (1.0f / 127.0f);
+    const float z = 1.0f - std::abs(x) - std::abs(y);
+    const float fold = max_of(-z, 0.0f);
+    const float folded_x = select_float(x >= 0.0f, x - fold, x + fold);
+    const float folded_y = select_float(y >= 0.0f, y - fold, y + fold);
+    const float inverse_length =
+        1.0f / std::sqrt(folded_x * folded_x + folded_y * folded_y + z * z);
+    return {folded_x * inverse_length, folded_y * inverse_length, z * inverse_length};
+}
+
+// cos(theta_o) and sin(theta_o) from the cone code q, (q / 255)^2 = sin(theta_o / 2) rounded up:
+// 0 is theta_o = 0 and 255 is pi (both exact); code 1 is 3e-5 radians, so the narrow cones of
+// emitters whose axis the octahedral codes hold exactly (axis-aligned walls, lights facing
+// down) stay narrow; steps of 0.45 degrees near 30, 0.7 near 60 and 2 near 120 degrees.
+RESTIR_HOST_DEVICE inline float cone_half_sine(std::uint32_t code) noexcept {
+    const float s = static_cast<float>(code) * (1.0f / 255.0f);
+    return s * s;
+}
+RESTIR_HOST_DEVICE inline float cone_cos(std::uint32_t code) noexcept {
+    const float h = cone_half_sine(code);
+    return 1.0f - 2.0f * h * h;
+}
+RESTIR_HOST_DEVICE inline float cone_sin(std::uint32_t code) noexcept {
+    const float h = cone_half_sine(code);
+    return 2.0f * h * std::sqrt(max_of(1.0f - h * h, 0.0f));
+}
+
+// cos(theta_e) from its code: (q - 128) / 128, rounded down (0 and -1 exact; 1 becomes 127/128).
+RESTIR_HOST_DEVICE inline float emission_cos(std::uint32_t code) noexcept {
+    return (static_cast<float>(code) - 128.0f) * (1.0f / 128.0f);
+}
+
+// A bfloat16 power: the top 16 bits of a float (rounded up by the builder).
+RESTIR_HOST_DEVICE inline float bfloat16_value(std::uint32_t bits) noexcept {
+    return bits_float(bits << 16u);
+}
+} // namespace detail
+
+RESTIR_HOST_DEVICE inline LightBvhGrid LightBvhGrid::over(glm::vec3 lower,
+                                                          glm::vec3 upper) noexcept {
+    return {lower,
+            glm::vec3(detail::grid_step(lower.x, upper.x), detail::grid_step(lower.y, upper.y),
+                      detail::grid_step(lower.z, upper.z))};
+}
+
+/// The children of one interior node of the flat tree, lane c for child c, quantised: 16 bytes
+/// a lane, 128 bytes, two cache lines. A structure of arrays, so that the eight importance
+/// bounds of a level decode and compute side by side in vector registers. A child's box is stored
+/// on the grid of its parent's box (`LightBvhGrid`, which a descent carries down from the root's
+/// box in `LightBvhView`); its cone axis in octahedral codes; theta_o, cos(theta_e) and the power
+/// in a byte, a byte and 16 bits. Every bound is rounded outward (the box, theta_o and theta_e only
+/// grow), so the importance stays positive wherever a light of the child lights a point; the
+/// power is rounded up. An unused lane is a leaf without power, which no draw takes.
+struct alignas(64) LightBvhGroup {
+    /// Children per group, a power of two: `lane_bits` bits of a path each.
+    static constexpr std::uint32_t lane_bits = 3u;
+    static constexpr std::uint32_t lanes = 1u << lane_bits;
+
     /// A leaf: `LightBvhNode::leaf_bit` | the light id. Otherwise the index of the group of its
     /// children.
     std::uint32_t child_or_light[lanes];
+    /// Corner codes on the parent's grid, per axis: the box is [corner(lower), corner(upper)].
+    std::uint8_t lower[3][lanes], upper[3][lanes];
+    /// The cone axis: octahedral codes 0 to 254 (`detail::octahedral_axis`).
+    std::uint8_t axis_u[lanes], axis_v[lanes];
+    /// 255 sqrt(sin(theta_o / 2)), rounded up (`detail::cone_cos`, `detail::cone_sin`).
+    std::uint8_t cone[lanes];
+    /// 128 + 128 cos(theta_e), rounded down (`detail::emission_cos`).
+    std::uint8_t emission[lanes];
+    /// The power as bfloat16, rounded up (`detail::bfloat16_value`).
+    std::uint16_t power[lanes];
 
     RESTIR_HOST_DEVICE constexpr bool is_leaf(std::uint32_t lane) const noexcept {
         return (child_or_light[lane] & LightBvhNode::leaf_bit) != 0u;
     }
-    /// Lane `lane` from the fields of `node` (its `child_or_light` included).
-    void set(std::uint32_t lane, const LightBvhNode& node) noexcept {
-        centre_x[lane] = node.centre.x;
-        centre_y[lane] = node.centre.y;
-        centre_z[lane] = node.centre.z;
-        radius[lane] = node.radius;
-        axis_x[lane] = node.axis.x;
-        axis_y[lane] = node.axis.y;
-        axis_z[lane] = node.axis.z;
-        cos_theta_o[lane] = node.cos_theta_o;
-        sin_theta_o[lane] = node.sin_theta_o;
-        cos_theta_e[lane] = node.cos_theta_e;
-        power[lane] = node.power;
-        child_or_light[lane] = node.child_or_light;
+    /// Lane `lane`'s box on the parent's grid.
+    RESTIR_HOST_DEVICE LightBvhBox box(std::uint32_t lane,
+                                       const LightBvhGrid& grid) const noexcept {
+        return {glm::vec3(grid.corner(0, lower[0][lane]), grid.corner(1, lower[1][lane]),
+                          grid.corner(2, lower[2][lane])),
+                glm::vec3(grid.corner(0, upper[0][lane]), grid.corner(1, upper[1][lane]),
+                          grid.corner(2, upper[2][lane]))};
     }
-    /// Lane `lane` as a node (what `set` stored).
-    RESTIR_HOST_DEVICE LightBvhNode node(std::uint32_t lane) const noexcept {
+    /// The grid of lane `lane`'s box: the one its own children's boxes are stored on.
+    RESTIR_HOST_DEVICE LightBvhGrid child_grid(std::uint32_t lane,
+                                               const LightBvhGrid& grid) const noexcept {
+        const LightBvhBox b = box(lane, grid);
+        return LightBvhGrid::over(b.lower, b.upper);
+    }
+    /// Lane `lane` as a node, decoded (its `child_or_light` included): what the importance
+    /// bounds weigh.
+    RESTIR_HOST_DEVICE LightBvhNode node(std::uint32_t lane, const LightBvhGrid& grid) const {
         LightBvhNode n;
-        n.centre = glm::vec3(centre_x[lane], centre_y[lane], centre_z[lane]);
-        n.radius = radius[lane];
-        n.axis = glm::vec3(axis_x[lane], axis_y[lane], axis_z[lane]);
-        n.cos_theta_o = cos_theta_o[lane];
-        n.sin_theta_o = sin_theta_o[lane];
-        n.cos_theta_e = cos_theta_e[lane];
-        n.power = power[lane];
+        decode(lane, grid, n.centre, n.radius);
+        n.axis = detail::octahedral_axis(axis_u[lane], axis_v[lane]);
+        n.cos_theta_o = detail::cone_cos(cone[lane]);
+        n.sin_theta_o = detail::cone_sin(cone[lane]);
+        n.cos_theta_e = detail::emission_cos(emission[lane]);
+        n.power = detail::bfloat16_value(power[lane]);
         n.child_or_light = child_or_light[lane];
         return n;
     }
-    /// The importance bounds of the four children at `at` (`light_importance` of each), and
-    /// their sum.
-    RESTIR_HOST_DEVICE float importance(const ShadingPoint& at, float (&out)[lanes]) const;
+    /// The importance bounds of the children at `at` (`light_importance` of each `node`, their
+    /// boxes on `grid`), and their sum, added lane by lane.
+    RESTIR_HOST_DEVICE float importance(const ShadingPoint& at, const LightBvhGrid& grid,
+                                        float (&out)[lanes]) const {
+        bounds(at, grid, out);
+        float total = 0.0f;
+        RESTIR_UNROLL
+        for (std::uint32_t c = 0u; c < lanes; ++c)
+            total += out[c];
+        return total;
+    }
+    /// The importance bounds alone (what `importance` writes to `out`).
+    RESTIR_HOST_DEVICE void bounds(const ShadingPoint& at, const LightBvhGrid& grid,
+                                   float (&out)[lanes]) const;
+
+private:
+    // The centre and half diagonal of lane `lane`'s box, from the codes: (lower + upper) / 2
+    // and (upper - lower) in whole steps, which is fewer operations than from the corners.
+    RESTIR_HOST_DEVICE void decode(std::uint32_t lane, const LightBvhGrid& grid, glm::vec3& centre,
+                                   float& radius) const {
+        const auto middle = [&](int a, float origin, float step) {
+            return origin + static_cast<float>(std::uint32_t{lower[a][lane]} + upper[a][lane]) *
+                                (0.5f * step);
+        };
+        const auto width = [&](int a, float step) {
+            return static_cast<float>(std::uint32_t{upper[a][lane]} - lower[a][lane]) * step;
+        };
+        centre =
+            glm::vec3(middle(0, grid.origin.x, grid.step.x), middle(1, grid.origin.y, grid.step.y),
+                      middle(2, grid.origin.z, grid.step.z));
+        const glm::vec3 diagonal(width(0, grid.step.x), width(1, grid.step.y),
+                                 width(2, grid.step.z));
+        radius = 0.5f * std::sqrt(glm::dot(diagonal, diagonal));
+    }
 };
 
 static_assert(std::is_trivially_copyable_v<LightBvhGroup>);
-static_assert(sizeof(LightBvhGroup) == 192u);
+static_assert(sizeof(LightBvhGroup) == 16u * LightBvhGroup::lanes);
 
-RESTIR_HOST_DEVICE inline float LightBvhGroup::importance(const ShadingPoint& at,
-                                                          float (&out)[lanes]) const {
-    // The fields spelled out rather than light_importance(node(c), at): that spelling
-    // vectorised less reliably and made batch draws slower (docs/performance.md, "Measured and
-    // rejected"). This loop is a draw's inner cost; check BM_LightBvh_SampleBatch after any
-    // change here.
-    for (std::uint32_t c = 0u; c < lanes; ++c)
-        out[c] =
-            detail::importance_bound(glm::vec3(centre_x[c], centre_y[c], centre_z[c]), radius[c],
-                                     glm::vec3(axis_x[c], axis_y[c], axis_z[c]), cos_theta_o[c],
-                                     sin_theta_o[c], cos_theta_e[c], power[c], at);
-    float total = 0.0f;
-    for (std::uint32_t c = 0u; c < lanes; ++c)
-        total += out[c];
-    return total;
+RESTIR_HOST_DEVICE inline void
+LightBvhGroup::bounds(const ShadingPoint& at, const LightBvhGrid& grid, float (&out)[lanes]) const {
+    // The fields decoded and spelled out rather than light_importance(node(c, grid), at): that
+    // spelling vectorised less reliably and made batch draws slower (docs/performance.md,
+    // "Measured and rejected"). This loop is a draw's inner cost; check BM_LightBvh_SampleBatch
+    // after any change here.
+    RESTIR_VECTORIZE
+    RESTIR_UNROLL
+    for (std::uint32_t c = 0u; c < lanes; ++c) {
+        glm::vec3 centre;
+        float radius;
+        decode(c, grid, centre, radius);
+        out[c] = detail::importance_bound(
+            centre, radius, detail::octahedral_axis(axis_u[c], axis_v[c]),
+            detail::cone_cos(cone[c]), detail::cone_sin(cone[c]), detail::emission_cos(emission[c]),
+            detail::bfloat16_value(power[c]), at);
+    }
 }
 
+namespace detail {
+// The sum of a group's bounds as a descent weighs them: in pairs, then pairs of pairs (half the
+// chain of adding them in turn, which a draw waits for at every level).
+RESTIR_HOST_DEVICE inline float pairwise_total(const float (&bounds)[LightBvhGroup::lanes]) {
+    float sums[LightBvhGroup::lanes];
+    RESTIR_UNROLL
+    for (std::uint32_t c = 0u; c < LightBvhGroup::lanes; ++c)
+        sums[c] = bounds[c];
+    RESTIR_UNROLL
+    for (std::uint32_t width = LightBvhGroup::lanes / 2u; width > 0u; width /= 2u) {
+        RESTIR_UNROLL
+        for (std::uint32_t c = 0u; c < width; ++c)
+            sums[c] = sums[2u * c] + sums[2u * c + 1u];
+    }
+    return sums[0];
+}
+} // namespace detail
+
 /// The flat tree as a `ContextLightSampler` (concepts.hpp). A view: the `LightBvh` it came
-/// from must outlive it (copy its arrays to the device for a kernel).
+/// from must outlive it (for a kernel, copy its arrays to the device and point a copy of
+/// `view()` at them: the root's box travels in the view).
 struct LightBvhView {
-    /// Children per interior node. Four rather than two halve the dependent levels of a draw,
-    /// and each choice weighs tighter bounds: the pmf follows the lights more closely (RIS with
-    /// it had 3.5 times less error per candidate on the many-lights scene; docs/performance.md).
+    /// Children per interior node. A wider node means fewer dependent levels in a draw (about
+    /// log8 n), each weighing its children side by side, and each choice weighs tighter bounds:
+    /// four rather than two gave RIS 3.5 times less error per candidate on the many-lights
+    /// scene, and eight rather than four drew faster (docs/performance.md).
     static constexpr std::uint32_t arity = LightBvhGroup::lanes;
 
-    /// Group 0 holds the root's children (for one light: the light and three unused lanes).
+    /// Group 0 holds the root's children (for one light: the light and seven unused lanes).
     const LightBvhGroup* groups = nullptr;
     /// Per light: the path from the root, bits [2k, 2k + 2) the lane taken in the k-th group
     /// of the descent, and the number of groups passed in the top `depth_shift` bits.
     const std::uint64_t* paths = nullptr;
     std::uint32_t count = 0u; ///< Lights.
+    /// The root's box: group 0's children are stored on its grid (`LightBvhGrid::over`).
+    glm::vec3 root_lower{0.0f};
+    glm::vec3 root_upper{0.0f};
 
     static constexpr std::uint32_t depth_shift = 58u;
+    /// The most groups a path passes (`LightBvhGroup::lane_bits` bits each below
+    /// `depth_shift`).
+    static constexpr std::uint32_t max_depth = depth_shift / LightBvhGroup::lane_bits;
     /// `u0` steers the first `levels_per_number` levels, `u1` the deeper ones: each level
-    /// spends about two bits of its number.
-    static constexpr std::uint32_t levels_per_number = 6u;
+    /// spends about `LightBvhGroup::lane_bits` bits of its number.
+    static constexpr std::uint32_t levels_per_number = 12u / LightBvhGroup::lane_bits;
 
     RESTIR_HOST_DEVICE constexpr std::uint32_t light_count() const noexcept { return count; }
+
+    /// The grid of group 0's children.
+    RESTIR_HOST_DEVICE LightBvhGrid root_grid() const noexcept {
+        return LightBvhGrid::over(root_lower, root_upper);
+    }
 
     /// One light for `at`, by a descent that takes each child with probability proportional to
     /// its `light_importance`; pmf 0 when no light can light `at`.
     RESTIR_HOST_DEVICE DiscreteSample sample(const ShadingPoint& at, float u0, float u1) const {
         if (count == 0u)
             return {};
-        Descent descent{u0, u1};
+        Descent descent{u0, u1, false, root_grid()};
         while (!descent.done)
             step(at, descent);
         return descent.result;
@@ -239,9 +421,10 @@ struct LightBvhView {
     RESTIR_HOST_DEVICE void sample(const ShadingPoint& at, const float (&u0)[Count],
                                    const float (&u1)[Count], DiscreteSample (&out)[Count]) const {
         Descent descents[Count];
+        const LightBvhGrid root = count > 0u ? root_grid() : LightBvhGrid{};
         RESTIR_UNROLL
         for (std::uint32_t k = 0u; k < Count; ++k)
-            descents[k] = Descent{u0[k], u1[k], count == 0u};
+            descents[k] = Descent{u0[k], u1[k], count == 0u, root};
         for (bool active = count > 0u; active;) {
             active = false;
             RESTIR_UNROLL
@@ -264,29 +447,36 @@ struct LightBvhView {
         const std::uint64_t path = paths[id];
         const auto depth = static_cast<std::uint32_t>(path >> depth_shift);
         std::uint32_t group = 0u;
+        LightBvhGrid grid = root_grid();
         float pmf = 1.0f;
         for (std::uint32_t level = 0u; level < depth; ++level) {
             const LightBvhGroup& g = groups[group];
             float importance[arity];
-            const float total = g.importance(at, importance);
+            g.bounds(at, grid, importance);
+            const float total = detail::pairwise_total(importance);
             if (!(total > 0.0f))
                 return 0.0f;
-            const auto child = static_cast<std::uint32_t>(path >> (2u * level) & 3u);
+            const auto child = static_cast<std::uint32_t>(
+                path >> (LightBvhGroup::lane_bits * level) & (arity - 1u));
             float chosen = 0.0f;
+            RESTIR_UNROLL
             for (std::uint32_t c = 0u; c < arity; ++c)
                 chosen = c == child ? importance[c] : chosen;
             pmf *= chosen / total;
             group = g.child_or_light[child];
+            grid = g.child_grid(child, grid);
         }
         return pmf;
     }
 
 private:
-    // A draw under way: the group it is at, its depth, its pmf so far and its numbers.
+    // A draw under way: its numbers, the group it is at and the grid of that group's boxes, its
+    // depth and its pmf so far.
     struct Descent {
         float u = 0.0f;
         float u_deep = 0.0f; // steers the levels from `levels_per_number` on
         bool done = false;
+        LightBvhGrid grid{};
         std::uint32_t group = 0u;
         std::uint32_t depth = 0u;
         float pmf = 1.0f;
@@ -301,7 +491,23 @@ private:
         const LightBvhGroup& g = groups[d.group];
         prefetch_children(g);
         float importance[arity];
-        const float total = g.importance(at, importance);
+        g.bounds(at, d.grid, importance);
+#if !defined(__CUDA_ARCH__)
+        // On a CPU, every lane's grid side by side, while the bounds compute: the chosen one is
+        // then a load rather than a chain of operations before the next level can start.
+        float origins[3][arity], cells[3][arity];
+        RESTIR_VECTORIZE
+        for (std::uint32_t c = 0u; c < arity; ++c) {
+            const LightBvhBox box = g.box(c, d.grid);
+            origins[0][c] = box.lower.x;
+            origins[1][c] = box.lower.y;
+            origins[2][c] = box.lower.z;
+            cells[0][c] = detail::grid_step(box.lower.x, box.upper.x);
+            cells[1][c] = detail::grid_step(box.lower.y, box.upper.y);
+            cells[2][c] = detail::grid_step(box.lower.z, box.upper.z);
+        }
+#endif
+        const float total = detail::pairwise_total(importance);
         if (!(total > 0.0f)) { // no child can light `at`
             d.done = true;
             return;
@@ -313,11 +519,13 @@ private:
         const float x = d.u * total;
         float prefix[arity];
         float running = 0.0f;
+        RESTIR_UNROLL
         for (std::uint32_t c = 0u; c < arity; ++c) {
             running += importance[c];
             prefix[c] = running;
         }
         std::uint32_t child = 0u, last_positive = 0u;
+        RESTIR_UNROLL
         for (std::uint32_t c = 0u; c < arity; ++c) {
             child += c + 1u < arity && prefix[c] <= x ? 1u : 0u;
             last_positive = importance[c] > 0.0f ? c : last_positive;
@@ -325,6 +533,7 @@ private:
         child = min_of(child, last_positive);
 #if defined(__CUDA_ARCH__)
         float start = 0.0f, chosen = 0.0f;
+        RESTIR_UNROLL
         for (std::uint32_t c = 0u; c < arity; ++c) {
             start = select_float(c == child, c == 0u ? 0.0f : prefix[c - 1u], start);
             chosen = select_float(c == child, importance[c], chosen);
@@ -332,6 +541,7 @@ private:
 #else
         // On a CPU, loads at a runtime index (compilers turn the masks into branches).
         float before_child[arity];
+        RESTIR_UNROLL
         for (std::uint32_t c = 0u; c < arity; ++c)
             before_child[c] = c == 0u ? 0.0f : prefix[c - 1u];
         const float start = before_child[child];
@@ -344,21 +554,29 @@ private:
             return;
         }
         d.group = g.child_or_light[child];
+#if defined(__CUDA_ARCH__)
+        d.grid = g.child_grid(child, d.grid);
+#else
+        d.grid = {glm::vec3(origins[0][child], origins[1][child], origins[2][child]),
+                  glm::vec3(cells[0][child], cells[1][child], cells[2][child])};
+#endif
         d.u = min_of(max_of((x - start) / chosen, 0.0f), 0x1.fffffep-1f);
         ++d.depth;
     }
 
-    // On the host, asks for the groups of every interior child while the children are being
+    // On the host, asks for the group of every interior child while the children are being
     // weighed: at a million lights the groups below the top levels are not in cache, and the
     // loads would otherwise wait for the choice.
     RESTIR_HOST_DEVICE void prefetch_children(const LightBvhGroup& g) const {
 #if !defined(__CUDA_ARCH__)
+        // Without branches: a leaf's lane asks for this group again, which costs nothing.
+        const auto here = static_cast<std::uint32_t>(&g - groups);
+        RESTIR_UNROLL
         for (std::uint32_t c = 0u; c < arity; ++c) {
-            if (!g.is_leaf(c)) {
-                const char* child = reinterpret_cast<const char*>(&groups[g.child_or_light[c]]);
-                for (std::uint32_t line = 0u; line < sizeof(LightBvhGroup); line += 64u)
-                    RESTIR_PREFETCH(child + line);
-            }
+            const char* child =
+                reinterpret_cast<const char*>(&groups[g.is_leaf(c) ? here : g.child_or_light[c]]);
+            for (std::uint32_t line = 0u; line < sizeof(LightBvhGroup); line += 64u)
+                RESTIR_PREFETCH(child + line);
         }
 #else
         (void)g;
@@ -367,3 +585,7 @@ private:
 };
 
 } // namespace restir
+
+#if defined(__clang__)
+#pragma clang diagnostic pop
+#endif
