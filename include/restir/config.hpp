@@ -42,6 +42,8 @@
 /// elsewhere (GCC, device code).
 #if defined(__clang__) && !defined(__CUDACC__)
 #define RESTIR_VECTORIZE _Pragma("clang loop vectorize(enable)")
+#elif defined(__GNUC__) && !defined(__CUDACC__)
+#define RESTIR_VECTORIZE _Pragma("GCC ivdep")
 #else
 #define RESTIR_VECTORIZE
 #endif
