@@ -209,8 +209,7 @@ struct ReuseFlags {
 void add_light_sampling_options(CLI::App& app, RenderSettings& settings, ReuseFlags& flags) {
     restir::DiFrameParams& frame = settings.di_frame;
     app.add_option("--candidates", settings.candidates,
-                   "RIS candidates per pixel (M); 0 (default): 4 from the light BVH, 32 from "
-                   "light tiles or the grid")
+                   "RIS candidates per pixel (M; 0: 4 from the light BVH, 32 from tiles or grid)")
         ->check(CLI::Range(0u, 4096u));
     app.add_option("--neighbours", frame.spatial.neighbour_count, "Spatial reuse neighbours (k)")
         ->check(CLI::Range(0u, restir::max_reuse_inputs - 1u));
@@ -250,9 +249,9 @@ void add_light_sampling_options(CLI::App& app, RenderSettings& settings, ReuseFl
     app.add_option("--source", settings.source,
                    "Candidate distribution of ris/restir: auto (default: bvh for scenes of 64 "
                    "or more emitter triangles, else power; docs/performance.md), power or "
-                   "uniform (from light tiles), "
-                   "bvh (by importance at the pixel's surface, a light BVH drawn per pixel: "
-                   "far better candidates, each costing more; lower --candidates) or grid (by "
+                   "uniform (from light tiles), bvh (by importance at the pixel's surface, a "
+                   "light BVH drawn per pixel: far better candidates, each costing more; lower "
+                   "--candidates) or grid (by "
                    "importance in the pixel's cell of a world-space grid, tiles per cell "
                    "resampled from power-proportional candidates every frame; --grid-cells)")
         ->transform(names<CandidateSource>({{"auto", CandidateSource::automatic},
