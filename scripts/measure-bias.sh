@@ -84,7 +84,7 @@ echo "| --- | --- | --- | --- | --- |"
 for scene in ${scenes//,/ }; do
   case $scene in
   cornell) args=(--scene cornell --gi vpl) ;;
-  many-lights) args=(--scene many-lights --lights 1000 --gi none) ;;
+  many-lights) args=(--scene many-lights --lights 1000 --gi none --source power --candidates 32) ;;
   obj)
     [ -f "$obj" ] || { echo "error: $obj not found" >&2; exit 1; }
     args=(--scene "$obj" --materials diffuse --gi vpl) ;; # Lambertian, as in docs/

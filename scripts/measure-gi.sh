@@ -44,7 +44,7 @@ scene_flags() {
   case "$1" in
     cornell) echo "--scene cornell" ;;
     cornell-obj) echo "--scene ../shared/scenes/cornell-box.obj --materials diffuse" ;;
-    many-lights) echo "--scene many-lights --lights 10000" ;;
+    many-lights) echo "--scene many-lights --lights 10000 --source power --candidates 32" ;;
     *) echo "unknown scene '$1' (cornell, cornell-obj, many-lights)" >&2; exit 2 ;;
   esac
 }
@@ -78,7 +78,7 @@ bias_study() {
   local name reference_image
   for name in cornell cornell-glossy many-lights; do
     local flags=(--scene "$name")
-    [ "$name" = many-lights ] && flags+=(--lights 10000)
+    [ "$name" = many-lights ] && flags+=(--lights 10000 --source power --candidates 32)
     reference_image=$(reference "$name-80x60-indirect" 8192 "${flags[@]}" --width 80 --height 60 \
       --gi path --indirect-only)
     case "$name" in

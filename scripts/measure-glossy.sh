@@ -139,7 +139,7 @@ nee_against() {
 
 nee() {
   local size=(--width "$small_width" --height "$small_height")
-  local scene=(--scene many-lights --lights 1000 --gi none "${size[@]}")
+  local scene=(--scene many-lights --lights 1000 --gi none --source power --candidates 32 "${size[@]}")
   local ref
   ref=$(reference "many-lights-${small_width}x$small_height" "$reference_spp" "${scene[@]}")
   reference_noise "$ref" "$reference_spp" "${scene[@]}"
@@ -172,7 +172,7 @@ times() {
     "${floor[*]} --bsdf-candidates 1 --candidates 4"
     "${floor[*]} --bsdf-candidates 1 --candidates 32"
     "${floor[*]} --bsdf-candidates 4 --candidates 1")
-  for scene in "--scene many-lights --lights 1000" "--scene cornell-glossy"; do
+  for scene in "--scene many-lights --lights 1000 --source power --candidates 32" "--scene cornell-glossy"; do
     for method in "ris" "restir" "reference --spp 1" "reference --spp 2" "reference --spp 4" \
       "reference --spp 8"; do
       runs+=("$scene --gi none ${small[*]} --method $method")

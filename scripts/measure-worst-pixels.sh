@@ -2,7 +2,7 @@
 # Fireflies next to lights (docs/noise-and-bias.md, "Light points next to lights"): in the
 # many-light scene (or the Cornell box) with direct light only, the share of one RIS frame's total squared error that
 # its 20 worst pixels hold, its RMSE and its time, with area and with solid-angle light points,
-# per candidate source (light tiles by power, the default, and the light BVH), averaged over
+# per candidate source (light tiles by power and the light BVH, 32 candidates each), averaged over
 # SEEDS independent frames. The converged reference (path tracing) is cached in out/worst/.
 # Usage: scripts/measure-worst-pixels.sh [WIDTH HEIGHT REFERENCE_SPP SEEDS BUILD SCENE]
 #        (default 640 360 4096 8 build/dev many-lights; BUILD must hold restir-render and
@@ -41,7 +41,8 @@ for source in power bvh; do
     for seed in $(seq 1 "$seeds"); do
       image=$dir/ris-$scene_name-$source-$points-$seed.exr
       csv=$dir/ris-$scene_name-$source-$points-$seed.csv
-      nice -n 10 "$render" "${scene[@]}" --method ris --source "$source" --light-points "$points" \
+      nice -n 10 "$render" "${scene[@]}" --method ris --source "$source" --candidates 32 \
+        --light-points "$points" \
         --frames 1 --seed "$seed" --out "$image" --csv "$csv" \
         >/dev/null
       "$compare" "$image" --reference "$reference" |
