@@ -41,8 +41,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             std::isfinite(options->environment_scale) && options->environment_scale > 0.0f &&
             std::isfinite(options->environment_rotate);
         if (!finite || s.width == 0 || s.height == 0 || s.width > 16384 || s.height > 16384 ||
-            options->frames == 0 || s.candidates == 0)
-            __builtin_trap(); // a value the checks should have refused
+            options->frames == 0 || s.candidates > 4096u) // 0: the source's default
+            __builtin_trap();                             // a value the checks should have refused
         for (const std::vector<float>* v : {&options->look_from, &options->look_at})
             for (float x : *v)
                 if (!std::isfinite(x))
