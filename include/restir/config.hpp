@@ -37,6 +37,18 @@
 #define RESTIR_FORCE_INLINE inline
 #endif
 
+/// Around a header whose loops are marked RESTIR_VECTORIZE: a loop that a build does not
+/// vectorise (no optimisation, sanitizers) is only slower, so Clang's -Wpass-failed is off
+/// between the two.
+#if defined(__clang__)
+#define RESTIR_VECTORIZE_REGION_BEGIN                                                              \
+    _Pragma("clang diagnostic push") _Pragma("clang diagnostic ignored \"-Wpass-failed\"")
+#define RESTIR_VECTORIZE_REGION_END _Pragma("clang diagnostic pop")
+#else
+#define RESTIR_VECTORIZE_REGION_BEGIN
+#define RESTIR_VECTORIZE_REGION_END
+#endif
+
 /// Before a short loop whose iterations are independent (the four lanes of a light BVH group):
 /// asks Clang to vectorise it, which its cost model declines for so few iterations. Nothing
 /// elsewhere (GCC, device code).

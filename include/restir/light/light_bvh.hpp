@@ -22,13 +22,6 @@
 #include <stdexcept>
 #include <vector>
 
-// A loop marked RESTIR_VECTORIZE that a build does not vectorise (no optimisation, sanitizers)
-// is only slower: no warning for it.
-#if defined(__clang__)
-#pragma clang diagnostic push
-#pragma clang diagnostic ignored "-Wpass-failed"
-#endif
-
 namespace restir {
 
 /// The host-built tree over a list of lights (light id = index in the list), with
@@ -206,7 +199,3 @@ private:
 };
 
 } // namespace restir
-
-#if defined(__clang__)
-#pragma clang diagnostic pop
-#endif

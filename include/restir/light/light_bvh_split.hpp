@@ -4,6 +4,7 @@
 /// area heuristic (Conty Estevez and Kulla 2018), or at the median.
 #pragma once
 
+#include "restir/config.hpp"
 #include "restir/light/light_bounds.hpp"
 #include "restir/light/light_bvh_items.hpp"
 #include "restir/light/light_bvh_view.hpp"
@@ -18,12 +19,7 @@
 #include <limits>
 #include <vector>
 
-// A loop marked RESTIR_VECTORIZE that a build does not vectorise (no optimisation, sanitizers)
-// is only slower: no warning for it.
-#if defined(__clang__)
-#pragma clang diagnostic push
-#pragma clang diagnostic ignored "-Wpass-failed"
-#endif
+RESTIR_VECTORIZE_REGION_BEGIN
 
 namespace restir::detail {
 
@@ -417,6 +413,4 @@ struct LightBvhSplits : LightBvhItems {
 
 } // namespace restir::detail
 
-#if defined(__clang__)
-#pragma clang diagnostic pop
-#endif
+RESTIR_VECTORIZE_REGION_END

@@ -26,12 +26,7 @@
 #include <cstdint>
 #include <type_traits>
 
-// A loop marked RESTIR_VECTORIZE that a build does not vectorise (no optimisation, sanitizers)
-// is only slower: no warning for it.
-#if defined(__clang__)
-#pragma clang diagnostic push
-#pragma clang diagnostic ignored "-Wpass-failed"
-#endif
+RESTIR_VECTORIZE_REGION_BEGIN
 
 namespace restir {
 
@@ -255,6 +250,4 @@ private:
 
 } // namespace restir
 
-#if defined(__clang__)
-#pragma clang diagnostic pop
-#endif
+RESTIR_VECTORIZE_REGION_END
