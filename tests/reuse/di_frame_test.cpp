@@ -378,9 +378,10 @@ TEST(DiFrame, WithoutHistoryTemporalReturnsItsInput) {
 }
 
 // The steps: stages in order, writers alternating so that the last writes `out` (buffer 0),
-// each reading what the one before wrote, `finish` in place on `out`; retests only before a
-// spatial pass whose MIS weights trace rays (none under 1/M, which traces none).
-TEST(DiFrame, StepsPingPongIntoOutAndRetestOnlyBeforeTracedPasses) {
+// each reading what the one before wrote, `finish` in place on `out`; retests before a
+// spatial pass whose MIS weights trace rays (none under 1/M, which traces none), and in the last
+// reuse step where that spares `finish` its rays.
+TEST(DiFrame, StepsPingPongIntoOutAndRetestOnlyWhereNeeded) {
     const Reservoir<LightId> history[1]{};
     for (std::uint32_t passes : {0u, 1u, 2u, 3u})
         for (bool with_history : {false, true})
@@ -413,12 +414,28 @@ TEST(DiFrame, StepsPingPongIntoOutAndRetestOnlyBeforeTracedPasses) {
                         }
                         const bool before_spatial =
                             i + 1u < count && f.step(i + 1u).stage == restir::DiStage::spatial;
+                        // The last reuse step, right before finish, retests for finish when
+                        // its input was tested throughout: the initial stage's, or after
+                        // retests for the MIS rays.
+                        const std::uint32_t reuse_steps = (with_history ? 1u : 0u) + passes;
+                        const bool last_reuse = i > 0u && !boiling && i + 2u == count;
+                        const auto for_finish = [&](bool mis_retests) {
+                            return last_reuse && restir::carries_visibility(v) &&
+                                   (reuse_steps == 1u || mis_retests);
+                        };
+                        const bool traced = v == restir::ReuseVisibility::traced;
                         EXPECT_EQ(s.retest,
-                                  i > 0u && before_spatial && v == restir::ReuseVisibility::traced)
+                                  (i > 0u && before_spatial && traced) || for_finish(traced))
                             << name << ", step " << i;
+                        EXPECT_EQ(
+                            f.finish_retests(),
+                            !restir::carries_visibility(v) ||
+                                (reuse_steps > 0u && (boiling || !(reuse_steps == 1u || traced))))
+                            << name;
                         Frame one_over_m = f;
                         one_over_m.params.spatial_bias_correction = BiasCorrection::none;
-                        EXPECT_FALSE(one_over_m.step(i).retest) << name << ", step " << i;
+                        EXPECT_EQ(one_over_m.step(i).retest, for_finish(false))
+                            << name << ", step " << i;
                     }
                     EXPECT_EQ(f.step(count - 2u).output, 0u)
                         << name << ": the last writer writes out";

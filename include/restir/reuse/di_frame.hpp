@@ -16,7 +16,8 @@
 ///   5. `finish`    the final visibility; your `shade(pixel, reservoir, visible)` is called, and
 ///                  the reservoir stays in `out` as the next frame's history.
 /// A step's results whose sample is new are retested for visibility before a reuse pass whose
-/// MIS weights trace rays reads them (`DiStep::retest`).
+/// MIS weights trace rays reads them (`DiStep::retest`), and by the last reuse step when that
+/// spares `finish` its rays (`DiFrame::last_reuse_retests`).
 ///
 /// Two ways to run a step, one set of rules: per pixel with a `VisibilityFunction` that traces
 /// each ray when asked (`DiFrame::run_pixel`, a GPU thread with inline ray queries), or per
@@ -88,7 +89,8 @@ struct DiStep {
     std::uint32_t output = 0u; ///< Buffer written; `finish` writes the buffer it reads, `out`.
     /// Results whose sample differs from the input's are visibility-tested (W = 0 when
     /// occluded): the next step is a spatial pass whose MIS weights trace rays (an unbiased
-    /// mode under `ReuseVisibility::traced`).
+    /// mode under `ReuseVisibility::traced`), or this is the last reuse step and its input was
+    /// tested throughout, so that `finish` needs no ray (`DiFrame::finish_retests`).
     bool retest = false;
 };
 
@@ -195,8 +197,8 @@ requires(std::same_as<History, ImageView<const Reservoir<Sample>>> ||
         const bool reuses = s.stage == DiStage::temporal || s.stage == DiStage::spatial;
         const bool next_is_spatial =
             i >= temporal_steps && i < temporal_steps + params.spatial_passes;
-        s.retest = reuses && next_is_spatial && traces_mis_rays(params.visibility) &&
-                   params.spatial_bias_correction != BiasCorrection::none;
+        s.retest = reuses && (next_is_spatial ? retests_for_mis_rays()
+                                              : i == writers - 1u && last_reuse_retests());
         return s;
     }
 
@@ -233,10 +235,23 @@ requires(std::same_as<History, ImageView<const Reservoir<Sample>>> ||
         return true;
     }
     /// Whether `finish` traces the final visibility: not when the initial stage's test is the
-    /// last (no temporal or spatial step brought a sample in since).
+    /// last (no temporal or spatial step brought a sample in since), nor when the last reuse
+    /// step retested the samples it brought in (`last_reuse_retests`).
     RESTIR_HOST_DEVICE constexpr bool finish_retests() const noexcept {
-        return !carries_visibility(params.visibility) || has_history() ||
-               params.spatial_passes > 0u;
+        return !carries_visibility(params.visibility) ||
+               (reuse_step_count() > 0u && !last_reuse_retests());
+    }
+    /// Whether the last reuse step (temporal or spatial, right before `finish`) retests the
+    /// samples it brought in, so that every final sample has been tested at its pixel and
+    /// `finish` traces no ray: under visibility reuse without the boiling filter (which would
+    /// read the zeroed weights), when every earlier step left its output tested (the initial
+    /// stage does; reuse steps do when the MIS rays make them retest). A sample the step kept
+    /// was tested at its pixel already, so only the changed ones cost a ray, where `finish`
+    /// would trace one for every pixel: the same answers, fewer rays.
+    RESTIR_HOST_DEVICE constexpr bool last_reuse_retests() const noexcept {
+        const std::uint32_t reuse_steps = reuse_step_count();
+        return carries_visibility(params.visibility) && !params.boiling_filter &&
+               reuse_steps > 0u && (reuse_steps == 1u || retests_for_mis_rays());
     }
 
     // --- Per pixel, visibility traced when asked ------------------------------------------
@@ -433,9 +448,16 @@ private:
 
     using LoadedInput = detail::LoadedHistoryInput<Sample, S, history_has_surfaces>;
 
+    RESTIR_HOST_DEVICE constexpr std::uint32_t reuse_step_count() const noexcept {
+        return (has_history() ? 1u : 0u) + params.spatial_passes;
+    }
     RESTIR_HOST_DEVICE constexpr std::uint32_t writer_count() const noexcept {
-        return 1u + (has_history() ? 1u : 0u) + params.spatial_passes +
-               (params.boiling_filter ? 1u : 0u);
+        return 1u + reuse_step_count() + (params.boiling_filter ? 1u : 0u);
+    }
+    // Reuse steps before a spatial pass whose MIS weights trace rays retest their new samples.
+    RESTIR_HOST_DEVICE constexpr bool retests_for_mis_rays() const noexcept {
+        return traces_mis_rays(params.visibility) &&
+               params.spatial_bias_correction != BiasCorrection::none;
     }
     RESTIR_HOST_DEVICE constexpr ReuseVisibility recipe_visibility() const noexcept {
         return params.visibility == ReuseVisibility::traced ? ReuseVisibility::traced_inputs_tested
