@@ -49,9 +49,9 @@
 #define RESTIR_VECTORIZE_REGION_END
 #endif
 
-/// Before a short loop whose iterations are independent (the four lanes of a light BVH group):
-/// asks Clang to vectorise it, which its cost model declines for so few iterations. Nothing
-/// elsewhere (GCC, device code).
+/// Before a short loop whose iterations are independent (the eight lanes of a light BVH
+/// group): asks Clang to vectorise it, which its cost model declines for so few iterations;
+/// tells GCC the iterations are independent (`ivdep`). Nothing in device code.
 #if defined(__clang__) && !defined(__CUDACC__)
 #define RESTIR_VECTORIZE _Pragma("clang loop vectorize(enable)")
 #elif defined(__GNUC__) && !defined(__CUDACC__)

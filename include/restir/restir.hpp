@@ -39,6 +39,7 @@
 #include "restir/reuse/bias_correction.hpp"
 #include "restir/reuse/boiling_filter.hpp"
 #include "restir/reuse/di_frame.hpp"
+#include "restir/reuse/di_frame_params.hpp"
 #include "restir/reuse/di_frame_tiles.hpp"
 #include "restir/reuse/history.hpp"
 #include "restir/reuse/image_view.hpp"

@@ -32,6 +32,7 @@
 #include "restir/core/rng.hpp"
 #include "restir/reuse/bias_correction.hpp"
 #include "restir/reuse/boiling_filter.hpp"
+#include "restir/reuse/di_frame_params.hpp"
 #include "restir/reuse/history.hpp"
 #include "restir/reuse/image_view.hpp"
 #include "restir/reuse/neighbour_offsets.hpp"
@@ -47,35 +48,8 @@
 
 namespace restir {
 
-/// Settings of a ReSTIR DI frame. Every field is read; none overrides another.
-struct DiFrameParams {
-    /// Visibility reuse and the MIS rays, for every pass (all passes must agree on what the
-    /// reservoirs carry). The recipe tests every reservoir before a pass reads it, so `traced`
-    /// and `traced_inputs_tested` are the same here: exact weights, no ray for an input's own
-    /// sample.
-    ReuseVisibility visibility = ReuseVisibility::traced;
-    /// Bias correction of the temporal pass.
-    BiasCorrection temporal_bias_correction = BiasCorrection::pairwise;
-    /// Bias correction of each spatial pass.
-    BiasCorrection spatial_bias_correction = BiasCorrection::pairwise;
-    /// False skips temporal reuse in every frame.
-    bool temporal_reuse = true;
-    TemporalParams temporal = default_temporal_params();
-    /// Spatial passes per frame (the paper: 1 to 4; 0 skips spatial reuse).
-    std::uint32_t spatial_passes = 1u;
-    /// Each spatial pass (the paper's k = 3 in 30 px for the unbiased modes).
-    SpatialParams spatial = default_spatial_params();
-    /// The boiling filter after the spatial passes (biased: off by default).
-    bool boiling_filter = false;
-    BoilingFilterParams boiling = default_boiling_filter_params();
-};
-
 /// The random streams' name before 0.2.
 using DiStream [[deprecated("use restir::RngStream")]] = RngStream;
-
-/// The paper's settings: pairwise MIS with visibility reuse and traced MIS rays, temporal reuse
-/// with a history cap of 20, one spatial pass of 3 neighbours in 30 pixels.
-RESTIR_HOST_DEVICE constexpr DiFrameParams default_di_frame_params() noexcept { return {}; }
 
 /// The stages of a frame, in their order.
 enum class DiStage : std::uint8_t { initial, temporal, spatial, boiling, finish };

@@ -1,0 +1,44 @@
+/// @file reuse/di_frame_params.hpp
+/// The settings of a ReSTIR DI frame (reuse/di_frame.hpp): visibility reuse, the bias
+/// corrections, the temporal and spatial passes and the boiling filter, with the paper's
+/// defaults.
+#pragma once
+
+#include "restir/config.hpp"
+#include "restir/reuse/boiling_filter.hpp"
+#include "restir/reuse/reuse_params.hpp"
+#include "restir/reuse/spatial.hpp"
+#include "restir/reuse/temporal.hpp"
+
+#include <cstdint>
+
+namespace restir {
+
+/// Settings of a ReSTIR DI frame. Every field is read; none overrides another.
+struct DiFrameParams {
+    /// Visibility reuse and the MIS rays, for every pass (all passes must agree on what the
+    /// reservoirs carry). The recipe tests every reservoir before a pass reads it, so `traced`
+    /// and `traced_inputs_tested` are the same here: exact weights, no ray for an input's own
+    /// sample.
+    ReuseVisibility visibility = ReuseVisibility::traced;
+    /// Bias correction of the temporal pass.
+    BiasCorrection temporal_bias_correction = BiasCorrection::pairwise;
+    /// Bias correction of each spatial pass.
+    BiasCorrection spatial_bias_correction = BiasCorrection::pairwise;
+    /// False skips temporal reuse in every frame.
+    bool temporal_reuse = true;
+    TemporalParams temporal = default_temporal_params();
+    /// Spatial passes per frame (the paper: 1 to 4; 0 skips spatial reuse).
+    std::uint32_t spatial_passes = 1u;
+    /// Each spatial pass (the paper's k = 3 in 30 px for the unbiased modes).
+    SpatialParams spatial = default_spatial_params();
+    /// The boiling filter after the spatial passes (biased: off by default).
+    bool boiling_filter = false;
+    BoilingFilterParams boiling = default_boiling_filter_params();
+};
+
+/// The paper's settings: pairwise MIS with visibility reuse and traced MIS rays, temporal reuse
+/// with a history cap of 20, one spatial pass of 3 neighbours in 30 pixels.
+RESTIR_HOST_DEVICE constexpr DiFrameParams default_di_frame_params() noexcept { return {}; }
+
+} // namespace restir
