@@ -26,6 +26,16 @@
 #include <cstdint>
 #include <type_traits>
 
+// Whether a descent works out every child's grid beside the bounds, so that the chosen one is a
+// load after the choice: in host code built by Clang, which vectorises that loop. GCC leaves it
+// scalar, and its draws were 10-25 % faster with the chosen child's grid alone, computed after
+// the choice as on a GPU (docs/performance.md).
+#if !defined(__CUDA_ARCH__) && defined(__clang__)
+#define RESTIR_LIGHT_BVH_LANE_GRIDS 1
+#else
+#define RESTIR_LIGHT_BVH_LANE_GRIDS 0
+#endif
+
 RESTIR_VECTORIZE_REGION_BEGIN
 
 namespace restir {
@@ -156,11 +166,9 @@ private:
         prefetch_children(g);
         float importance[arity];
         g.bounds(at, d.grid, importance);
-#if !defined(__CUDA_ARCH__) && defined(__clang__)
-        // With Clang, every lane's grid side by side, while the bounds compute: the chosen one
-        // is then a load rather than a chain of operations before the next level can start.
-        // GCC leaves this loop scalar, and its draws were 10-25 % faster with the chosen
-        // child's grid alone, computed after the choice as on a GPU (docs/performance.md).
+#if RESTIR_LIGHT_BVH_LANE_GRIDS
+        // Every lane's grid side by side, while the bounds compute: the chosen one is then a
+        // load rather than a chain of operations before the next level can start.
         float origins[3][arity], cells[3][arity];
         RESTIR_VECTORIZE
         for (std::uint32_t c = 0u; c < arity; ++c) {
@@ -220,11 +228,11 @@ private:
             return;
         }
         d.group = g.child_or_light[child];
-#if defined(__CUDA_ARCH__) || !defined(__clang__)
-        d.grid = g.child_grid(child, d.grid);
-#else
+#if RESTIR_LIGHT_BVH_LANE_GRIDS
         d.grid = {glm::vec3(origins[0][child], origins[1][child], origins[2][child]),
                   glm::vec3(cells[0][child], cells[1][child], cells[2][child])};
+#else
+        d.grid = g.child_grid(child, d.grid);
 #endif
         d.u = min_of(max_of((x - start) / chosen, 0.0f), 0x1.fffffep-1f);
         ++d.depth;
