@@ -2,6 +2,7 @@
 // and the shadow rays from those surfaces, also traced per block as packets.
 #pragma once
 
+#include "buffer_allocator.hpp"
 #include "camera.hpp"
 #include "embree_scene.hpp"
 #include "pixel_blocks.hpp"
@@ -86,8 +87,8 @@ public:
     /// antialiasing, drawn for `frame_index`), one packet per pixel block.
     void trace(const Camera& camera, std::uint32_t frame_index);
 
-    const std::vector<GSurface>& surfaces() const { return surfaces_; }
-    const std::vector<GSurface>& previous_surfaces() const { return previous_; }
+    const PixelBuffer<GSurface>& surfaces() const { return surfaces_; }
+    const PixelBuffer<GSurface>& previous_surfaces() const { return previous_; }
     const EmbreeScene& rays() const { return *rays_; }
     const Scene& scene() const { return *scene_; }
     float ray_offset() const { return ray_offset_; }
@@ -147,7 +148,7 @@ private:
     float ray_offset_;
     bool antialias_;
     std::uint64_t seed_;
-    std::vector<GSurface> surfaces_, previous_;
+    PixelBuffer<GSurface> surfaces_, previous_;
 };
 
 } // namespace pt

@@ -289,7 +289,7 @@ std::size_t Renderer::surface_pixel_count() const {
 }
 
 std::vector<std::uint8_t> Renderer::glossy_pixels() const {
-    const std::vector<GSurface>& surfaces = impl_->gbuffer.surfaces();
+    const auto& surfaces = impl_->gbuffer.surfaces();
     std::vector<std::uint8_t> glossy(surfaces.size());
     for (std::size_t i = 0; i < surfaces.size(); ++i)
         glossy[i] = surfaces[i].valid && !is_lambertian(surfaces[i]) ? 1u : 0u;

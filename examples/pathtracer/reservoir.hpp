@@ -1,13 +1,10 @@
 // The renderer's reservoir, its storage, and a sample's target function at a G-buffer surface.
 #pragma once
 
+#include "buffer_allocator.hpp"
 #include "gbuffer.hpp"
 
 #include <restir/restir.hpp>
-
-#include <cstddef>
-#include <new>
-#include <vector>
 
 namespace pt {
 
@@ -16,22 +13,8 @@ namespace pt {
 using Reservoir = restir::Reservoir<restir::LightPointSample>;
 static_assert(sizeof(Reservoir) == 64u, "one reservoir per cache line");
 
-/// Storage on 64-byte boundaries, so that each reservoir is one cache line: reuse reads its
-/// neighbours' at random, and a record across two lines costs two misses.
-template <class T>
-struct CacheLineAllocator {
-    using value_type = T;
-    CacheLineAllocator() = default;
-    template <class U>
-    CacheLineAllocator(const CacheLineAllocator<U>&) noexcept {}
-    T* allocate(std::size_t n) {
-        return static_cast<T*>(::operator new (n * sizeof(T), std::align_val_t{64}));
-    }
-    void deallocate(T* p, std::size_t) noexcept { ::operator delete (p, std::align_val_t{64}); }
-    bool operator==(const CacheLineAllocator&) const noexcept { return true; }
-};
 /// A reservoir per pixel.
-using ReservoirBuffer = std::vector<Reservoir, CacheLineAllocator<Reservoir>>;
+using ReservoirBuffer = PixelBuffer<Reservoir>;
 
 /// p-hat folds the reflected radiance's channels by their Euclidean norm, which minimises the
 /// summed channel variance of one sample (the channel sum left 6-8 % more error per frame in the
