@@ -37,6 +37,18 @@
 #define RESTIR_FORCE_INLINE inline
 #endif
 
+/// 1 where host code may use `std::experimental::simd` (Parallelism TS 2): libstdc++'s (GCC 11
+/// on, or Clang on libstdc++), outside a CUDA or HIP compilation. Such a path computes what the
+/// plain loop beside it computes, bit for bit; define RESTIR_STD_SIMD 0 to take the plain loops.
+#ifndef RESTIR_STD_SIMD
+#include <cstddef> // defines __GLIBCXX__ with libstdc++
+#if defined(__GLIBCXX__) && !RESTIR_DEVICE_COMPILER && __has_include(<experimental/simd>)
+#define RESTIR_STD_SIMD 1
+#else
+#define RESTIR_STD_SIMD 0
+#endif
+#endif
+
 /// Around a header whose loops are marked RESTIR_VECTORIZE: a loop that a build does not
 /// vectorise (no optimisation, sanitizers) is only slower, so Clang's -Wpass-failed is off
 /// between the two.
