@@ -240,8 +240,10 @@ private:
 
     // On the host, asks for the group of every interior child while the children are being
     // weighed: at a million lights the groups below the top levels are not in cache, and the
-    // loads would otherwise wait for the choice.
-    RESTIR_HOST_DEVICE void prefetch_children(const LightBvhGroup& g) const {
+    // loads would otherwise wait for the choice. Inlined by force: a function whose only
+    // effects are prefetches is side-effect free to GCC 12, which deleted its calls (a draw at
+    // a million lights 30 % slower, docs/performance.md).
+    RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE void prefetch_children(const LightBvhGroup& g) const {
 #if !defined(__CUDA_ARCH__)
         // Without branches: a leaf's lane asks for this group again, which costs nothing.
         const auto here = static_cast<std::uint32_t>(&g - groups);
