@@ -73,7 +73,9 @@
 #endif
 
 /// Asks for the cache line at `address` ahead of a load that is known early but needed later
-/// (host code compiled by GCC or Clang; nothing elsewhere).
+/// (host code compiled by GCC or Clang; nothing elsewhere). A function whose only effects are
+/// prefetches must be RESTIR_FORCE_INLINE: GCC 12 counts it free of side effects and deletes
+/// its calls where it is not inlined first.
 #if (defined(__GNUC__) || defined(__clang__)) && !defined(__CUDA_ARCH__)
 #define RESTIR_PREFETCH(address) __builtin_prefetch(address)
 #else
