@@ -47,7 +47,7 @@ struct Triangle {
 
 /// A G-buffer texel and a ray hit: the surface point, its normal (facing the ray's origin),
 /// the distance along the ray (0: no surface) and the material.
-struct Texel {
+struct alignas(16) Texel {
     glm::vec3 position{0.0f};
     glm::vec3 normal{0.0f, 1.0f, 0.0f};
     float depth = 0.0f;

@@ -23,6 +23,7 @@ struct HostBuffers {
     std::vector<box::Reservoir> out, scratch, history;
     std::vector<box::Packed> packed_history;
     std::vector<glm::vec3> image;
+    std::vector<std::uint8_t> visible;
     std::vector<float> planes;
     std::vector<restir::LightSampleRef> references;
     void allocate(std::size_t pixels, std::size_t entries) {
@@ -33,6 +34,7 @@ struct HostBuffers {
         history.assign(pixels, {});
         packed_history.assign(pixels, {});
         image.assign(pixels, glm::vec3(0.0f));
+        visible.assign(pixels, 0u);
         planes.assign(entries * restir::tile_plane_count, 0.0f);
         references.assign(entries, {});
     }
@@ -44,6 +46,7 @@ struct HostBuffers {
         c.history = history.data();
         c.packed_history = packed_history.data();
         c.image = image.data();
+        c.visible = visible.data();
         c.tiles.planes = planes.data();
         c.tiles.references = references.data();
     }
@@ -57,6 +60,7 @@ inline void point_device(Context& c, std::size_t pixels, std::size_t entries) {
     c.history = device_alloc<box::Reservoir>(pixels);
     c.packed_history = device_alloc<box::Packed>(pixels);
     c.image = device_alloc<glm::vec3>(pixels);
+    c.visible = device_alloc<std::uint8_t>(pixels);
     c.tiles.planes = device_alloc<float>(entries * restir::tile_plane_count);
     c.tiles.references = device_alloc<restir::LightSampleRef>(entries);
 }

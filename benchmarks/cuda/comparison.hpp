@@ -140,6 +140,15 @@ struct Comparison {
             std::copy(refs.begin(), refs.end(), h.tiles.references);
             break;
         }
+        case Pass::shadow_rays: {
+            std::vector<std::uint8_t> visible(pixels);
+            download(visible.data(), d.visible, pixels);
+            for (std::size_t i = 0; i < pixels; ++i) {
+                const bool same = visible[i] == h.visible[i];
+                a.add(same, same, same ? 0.0 : 1.0);
+            }
+            break;
+        }
         default:
             // The buffer the step wrote (finish: `out`, in place), and the shading's outputs.
             settle(a, h.buffers()[w.step.output].data, d.buffers()[w.step.output].data, pixels,

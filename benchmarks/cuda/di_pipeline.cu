@@ -156,6 +156,7 @@ Context base_context(const Options& o, bool cornell, restir::Falloff falloff, fl
     base.tiles.tile_count = box::tile_count;
     base.tiles.tile_size = box::tile_size;
     base.candidates = o.candidates;
+    base.tile_group = o.tile_group;
     base.bvh_source = o.source == "bvh";
     if (!o.reuse) {
         base.params.temporal_reuse = false;
@@ -448,6 +449,9 @@ int run_benchmark(const Options& o) {
                          : "pairwise MIS, ray-free reuse",
             o.width, o.height, h.candidates, h.bvh_source ? "light BVH" : "light tiles",
             host_lights.light_count() + std::size_t{0}, o.static_camera ? ", static camera" : "");
+        if (!h.bvh_source)
+            std::printf("light tiles: %u of %u entries, one per %ux%u pixels\n", box::tile_count,
+                        box::tile_size, h.tile_group, h.tile_group);
         const Timings t = run_frames(o, h, d, gpu, threads, reference, pixels);
         all_agree = print_table(t, h, packed, gpu, pixels) && all_agree;
         if (!o.image.empty() && layout == layouts.back()) {

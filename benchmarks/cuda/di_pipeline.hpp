@@ -15,6 +15,7 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include <cstddef>
 #include <cstdint>
 
 namespace box {
@@ -54,9 +55,46 @@ struct LightPointDecoder {
     }
 };
 
-using PlainFrame = restir::DiFrame<restir::LightPointSample, Texel, CameraReprojection>;
+/// This frame's G-buffer as the recipe reads it: a texel whole, in two 16-byte loads through
+/// the read-only cache on a GPU (a `SurfaceDecoder`). Reuse gathers neighbours at random, so
+/// each load of a warp touches 32 cache lines: one load of 16 bytes costs the L1 what one of 4
+/// bytes does, and field by field a texel took eight.
+struct LoadedTexels {
+    const Texel* data = nullptr;
+    std::uint32_t width = 0u, height = 0u;
+    RESTIR_HOST_DEVICE bool contains(restir::PixelCoord p) const {
+        return restir::ImageView<const Texel>{data, width, height}.contains(p);
+    }
+    RESTIR_HOST_DEVICE Texel surface(restir::PixelCoord p) const {
+        const Texel* t = &restir::ImageView<const Texel>{data, width, height}[p];
+#if defined(__CUDA_ARCH__)
+        const float4 a = __ldg(reinterpret_cast<const float4*>(t));
+        const float4 b = __ldg(reinterpret_cast<const float4*>(t) + 1);
+        Texel r;
+        r.position = {a.x, a.y, a.z};
+        r.normal = {a.w, b.x, b.y};
+        r.depth = b.z;
+        r.material = __float_as_uint(b.w);
+        return r;
+#else
+        return *t;
+#endif
+    }
+};
+static_assert(sizeof(Texel) == 32u && alignof(Texel) == 16u && offsetof(Texel, normal) == 12u &&
+              offsetof(Texel, depth) == 24u && offsetof(Texel, material) == 28u);
+
+#if defined(DI_TEXEL_VIEW)
+using FrameSurfaces = restir::ImageView<const Texel>;
+#else
+using FrameSurfaces = LoadedTexels;
+#endif
+using PlainFrame =
+    restir::DiFrame<restir::LightPointSample, Texel, CameraReprojection,
+                    restir::ImageView<const restir::Reservoir<restir::LightPointSample>>,
+                    FrameSurfaces>;
 using PackedFrame = restir::DiFrame<restir::LightPointSample, Texel, CameraReprojection,
-                                    restir::PackedPointHistory<LightPointDecoder>>;
+                                    restir::PackedPointHistory<LightPointDecoder>, FrameSurfaces>;
 
 /// p-hat: the Euclidean norm of the unshadowed reflected radiance's channels (restir-render's).
 inline constexpr restir::ChannelNorm target_norm = restir::ChannelNorm::euclidean;
@@ -71,7 +109,6 @@ struct Target {
 inline constexpr std::uint32_t tile_count = 128u; // restir-render's light tiles
 inline constexpr std::uint32_t tile_size = 2048u; // a power of two
 inline constexpr std::uint32_t block_size = 8u;   // candidates per batch-RIS block
-inline constexpr std::uint32_t pixel_block = 8u;  // pixels of a tile's block, per side
 inline constexpr std::uint32_t tile_stream = restir::RngStream::application;
 
 /// Everything a pass reads and writes, as pointers (device pointers for a kernel, host
@@ -92,18 +129,25 @@ struct Context {
     restir::Falloff falloff{};
     float ray_offset = 0.1f;
     restir::LightTileArrays tiles{};
-    bool bvh_source = false;    // candidates drawn per pixel from the light BVH, not the tiles
-    restir::LightBvhView bvh{}; // over `lights`
-    Texel* surfaces = nullptr;  // this frame's G-buffer
+    std::uint32_t tile_group = 16u; // pixels per side of the square groups that share a tile
+    bool bvh_source = false;        // candidates drawn per pixel from the light BVH, not the tiles
+    restir::LightBvhView bvh{};     // over `lights`
+    Texel* surfaces = nullptr;      // this frame's G-buffer
     Texel* previous_surfaces = nullptr; // last frame's
     Reservoir* out = nullptr;           // the recipe's `DiBuffers::out`: the final reservoirs
     Reservoir* scratch = nullptr;       // the other side of its ping-pong
     Reservoir* history = nullptr;       // last frame's final reservoirs (plain layout)
     Packed* packed_history = nullptr;   // the same, packed (written by shading)
     glm::vec3* image = nullptr;
+    std::uint8_t* visible = nullptr; // the shadow-ray row's answers
 
     RESTIR_HOST_DEVICE restir::PixelCoord pixel(std::uint32_t x, std::uint32_t y) const {
         return {static_cast<std::int32_t>(x), static_cast<std::int32_t>(y)};
+    }
+    /// The light tile of the pixels in group (gx, gy) (`tile_group` pixels per side).
+    RESTIR_HOST_DEVICE std::uint32_t tile_of_group(std::uint32_t gx, std::uint32_t gy) const {
+        const std::uint32_t columns = (width + tile_group - 1u) / tile_group;
+        return tiles.tile_for(gx + gy * columns, frame);
     }
     RESTIR_HOST_DEVICE std::uint32_t index(restir::PixelCoord p) const {
         return static_cast<std::uint32_t>(p.x) + static_cast<std::uint32_t>(p.y) * width;
@@ -194,9 +238,7 @@ struct InitialCandidates {
         if (c.bvh_source)
             return bvh_candidates(c, s, rng);
         const auto x = static_cast<std::uint32_t>(pixel.x), y = static_cast<std::uint32_t>(pixel.y);
-        const std::uint32_t columns = (c.width + pixel_block - 1u) / pixel_block;
-        const std::uint32_t tile =
-            c.tiles.tile_for(x / pixel_block + y / pixel_block * columns, c.frame);
+        const std::uint32_t tile = c.tile_of_group(x / c.tile_group, y / c.tile_group);
         const std::uint32_t block_mask = c.tiles.tile_size / block_size - 1u;
         const std::uint32_t start = rng.next_uint();
         const std::uint32_t stride = rng.next_uint() | 1u;
@@ -265,6 +307,7 @@ enum class Pass : std::uint32_t {
     spatial,
     boiling,
     finish,
+    shadow_rays, // after the frame: what one shadow ray per pixel costs alone
     count
 };
 inline constexpr std::uint32_t pass_count = static_cast<std::uint32_t>(Pass::count);
@@ -280,20 +323,33 @@ inline const char* pass_name(Pass p) {
                                      "temporal reuse",
                                      "spatial reuse",
                                      "boiling filter",
-                                     "finish (visibility, shading)"};
+                                     "finish (visibility, shading)",
+                                     "one shadow ray a pixel (analytic)"};
     return names[static_cast<std::uint32_t>(p)];
 }
 /// Whether the pass traces rays of the analytic scene only (its cost is not the library's).
-inline bool is_ray_pass(Pass p) { return p == Pass::gbuffer; }
+inline bool is_ray_pass(Pass p) { return p == Pass::gbuffer || p == Pass::shadow_rays; }
 
-/// Pass `P` (G-buffer or tiles) at item (x, y).
+/// The shadow ray of pixel (x, y) to its final sample, alone: the cost of each of the two
+/// visibility tests inside the initial and finish rows, which the library does not set.
+RESTIR_HOST_DEVICE inline void shadow_ray_pixel(const Context& c, std::uint32_t x,
+                                                std::uint32_t y) {
+    const std::uint32_t i = x + y * c.width;
+    const Texel& s = c.surfaces[i];
+    const Reservoir& r = c.out[i];
+    c.visible[i] = is_valid_surface(s) && r.has_sample() && c.bridge().visibility(r.sample, s);
+}
+
+/// Pass `P` (G-buffer, tiles or the shadow rays) at item (x, y).
 template <Pass P>
 RESTIR_HOST_DEVICE void run_item(const Context& c, std::uint32_t x, std::uint32_t y) {
-    static_assert(P == Pass::gbuffer || P == Pass::tiles);
+    static_assert(P == Pass::gbuffer || P == Pass::tiles || P == Pass::shadow_rays);
     if constexpr (P == Pass::gbuffer)
         gbuffer_pixel(c, x, y);
-    else
+    else if constexpr (P == Pass::tiles)
         tile_entry(c, x, y);
+    else
+        shadow_ray_pixel(c, x, y);
 }
 
 } // namespace box

@@ -38,10 +38,18 @@ __global__ void pass_kernel(Context c) {
         box::run_item<P>(c, x, y);
 }
 
+// At most this many threads a block of a step kernel (--block), and at least this many such
+// blocks an SM can hold: the register budget (96 a thread) that keeps 20 warps resident. Without
+// it the candidates and spatial kernels took 107 and 114 registers (16 warps) and were 10 % and
+// 5 % slower (docs/performance.md, "GPU").
+inline constexpr std::uint32_t step_block_threads = 128u;
+inline constexpr std::uint32_t step_blocks_per_sm = 5u;
+
 // One step of the recipe over the pixels, compiled for stage `Stage` only; the frame by value
 // (a kernel parameter: no copy in local memory).
 template <DiStage Stage, class Frame>
-__global__ void step_kernel(Frame frame, DiStep step, Context c) {
+__global__ void __launch_bounds__(step_block_threads, step_blocks_per_sm)
+    step_kernel(Frame frame, DiStep step, Context c) {
     const std::uint32_t x = blockIdx.x * blockDim.x + threadIdx.x;
     const std::uint32_t y = blockIdx.y * blockDim.y + threadIdx.y;
     if (x < c.width && y < c.height)
@@ -114,6 +122,7 @@ std::vector<Work> frame_work(const Context& c) {
         const DiStep step = frame.step(i);
         work.push_back({box::row_of(step.stage), step});
     }
+    work.push_back({Pass::shadow_rays});
     return work;
 }
 inline std::vector<Work> frame_work(const Context& c) {
@@ -128,6 +137,12 @@ void run_work(const Work& w, const Context& c, bool gpu, std::uint32_t threads) 
                    : for_each_item(c.width, c.height, threads,
                                    [&](std::uint32_t x, std::uint32_t y) {
                                        box::run_item<Pass::gbuffer>(c, x, y);
+                                   });
+    if (w.row == Pass::shadow_rays)
+        return gpu ? launch<Pass::shadow_rays>(c)
+                   : for_each_item(c.width, c.height, threads,
+                                   [&](std::uint32_t x, std::uint32_t y) {
+                                       box::run_item<Pass::shadow_rays>(c, x, y);
                                    });
     if (w.row == Pass::tiles)
         return gpu ? launch<Pass::tiles>(c)

@@ -33,6 +33,7 @@ struct Options {
     std::uint32_t reference_frames = 0;      // > 0: per-frame MSE against this many frames of RIS
     std::string image;                       // PPM of the last frame
     std::uint32_t block_x = 16, block_y = 8; // threads per CUDA block of the pixel passes
+    std::uint32_t tile_group = 16u;          // pixels per side of a group that shares a light tile
 };
 
 [[noreturn]] inline void usage(const char* message) {
@@ -46,7 +47,7 @@ struct Options {
                  "                   [--candidates N] [--no-reuse] [--static-camera]\n"
                  "                   [--reference-frames N] [--reference-source tiles|bvh]\n"
                  "                   [--reference-candidates N] [--scene cornell|many-lights]\n"
-                 "                   [--lights N]\n");
+                 "                   [--lights N] [--tile-group N]\n");
     std::exit(message != nullptr ? 2 : 0);
 }
 
@@ -115,6 +116,8 @@ inline Options parse(int argc, char** argv) {
             o.reference_source = choice(a, value(), {"tiles", "bvh"});
         else if (a == "--reference-candidates")
             o.reference_candidates = parse_count(value(), 1, 4096);
+        else if (a == "--tile-group")
+            o.tile_group = parse_count(value(), 1, 32);
         else if (a == "--no-reuse")
             o.reuse = false;
         else if (a == "--static-camera")
@@ -132,8 +135,8 @@ inline Options parse(int argc, char** argv) {
                 usage("--block takes WxH, for example 8x8");
             o.block_x = parse_count(v.substr(0, x).c_str(), 1, 1024);
             o.block_y = parse_count(v.substr(x + 1).c_str(), 1, 1024);
-            if (o.block_x * o.block_y > 1024)
-                usage("--block: at most 1024 threads");
+            if (o.block_x * o.block_y > 128)
+                usage("--block: at most 128 threads (the step kernels' launch bounds)");
         } else
             usage(("unknown option " + a).c_str());
     }

@@ -1,8 +1,10 @@
 #include <restir/core/math.hpp>
+#include <restir/core/rng.hpp>
 
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <ios>
 #include <limits>
 
 namespace {
@@ -49,6 +51,31 @@ TEST(Math, UniformIndexStaysInRange) {
     // the count itself; the index must still be valid.
     for (std::uint32_t count : {16'777'217u, 16'777'219u, 33'554'435u, 4'294'967'295u})
         EXPECT_LT(restir::uniform_index(0x1.fffffep-1f, count), count) << count;
+}
+
+// Bit counts and the position of the n-th set bit, against a plain scan over every bit, for
+// masks of every population (a fixed generator).
+TEST(Math, BitCountAndNthSetBitAgreeWithAScan) {
+    restir::Pcg32 rng = restir::make_pixel_rng(5u, 0u, 0u);
+    for (std::uint32_t trial = 0; trial < 2000; ++trial) {
+        std::uint32_t bits = rng.next_uint();
+        // Thin some masks out, so that sparse and single-bit masks are tried too.
+        for (std::uint32_t k = 0; k < trial % 5u; ++k)
+            bits &= rng.next_uint();
+        if (trial < 32u)
+            bits = 1u << trial;
+        std::uint32_t seen = 0u;
+        for (std::uint32_t b = 0; b < 32u; ++b) {
+            if ((bits >> b & 1u) == 0u)
+                continue;
+            ASSERT_EQ(restir::nth_set_bit(bits, seen), b) << std::hex << bits << " " << seen;
+            ++seen;
+        }
+        ASSERT_EQ(restir::bit_count(bits), seen) << std::hex << bits;
+    }
+    EXPECT_EQ(restir::bit_count(0u), 0u);
+    EXPECT_EQ(restir::bit_count(0xffffffffu), 32u);
+    EXPECT_EQ(restir::nth_set_bit(0x80000000u, 0u), 31u);
 }
 
 } // namespace

@@ -3,8 +3,11 @@
 // array of the same inputs gives (and draws the same random numbers), a slot that lends
 // nothing or a malformed reservoir takes part as if it were absent, a set's cap equals capping
 // the reservoirs themselves, and the result's M is the sum of the M that took part. For every
-// mode and visibility setting. Compiled with -ffp-contract=off (tests/CMakeLists.txt): the two
-// sets instantiate the step twice, and the compiler may contract the two copies differently.
+// mode and visibility setting. The spatial pass's set (`find_spatial_neighbours`) holds the
+// neighbours that lend, in the order the search found them, and visited as it is (as a GPU
+// thread visits it) gives what the array of them gives. Compiled with -ffp-contract=off
+// (tests/CMakeLists.txt): the two sets instantiate the step twice, and the compiler may contract
+// the two copies differently.
 #include <restir/restir.hpp>
 
 #include "reuse/synthetic_image.hpp"
@@ -189,6 +192,82 @@ TEST(StreamedReuse, MalformedInputTakesPartAsIfAbsent) {
                 ASSERT_NO_FATAL_FAILURE(expect_same(r_with, r_without, a, b, trial));
             }
     }
+}
+
+// The spatial set over a 6 x 3 image whose reservoirs are now and then malformed (NaN) and
+// whose background patch is invalid: its slots are the neighbours the search reported, in
+// order, and each bias correction visiting the set itself (no gathering, as on a GPU) gives
+// what it gives over the array of those inputs, with the same numbers drawn.
+TEST(StreamedReuse, SpatialSetHoldsTheLendingNeighboursInOrder) {
+    restir::Pcg32 rng = restir::make_pixel_rng(13u, 0u, 0u);
+    const restir::NeighbourOffsets offsets = restir::make_neighbour_offsets();
+    std::vector<Patch> patches(pixel_count);
+    std::vector<Reservoir<LightId>> reservoirs(pixel_count);
+    std::uint32_t sets = 0, slots = 0, skipped = 0;
+    for (std::uint32_t trial = 0; trial < 400; ++trial) {
+        for (std::uint32_t i = 0; i < pixel_count; ++i) {
+            patches[i] = {i, i != background_patch};
+            reservoirs[i] = random_reservoir(i, 1u + trial % 9u, rng);
+            if (restir::uniform_index(next_float(rng), 5u) == 0u)
+                reservoirs[i].weight_sum = std::numeric_limits<float>::quiet_NaN();
+        }
+        const restir::ImageView<const Reservoir<LightId>> view{reservoirs.data(), width, height};
+        const restir::ImageView<const Patch> surfaces{patches.data(), width, height};
+        restir::SpatialParams params = restir::default_spatial_params();
+        params.neighbour_count = 1u + trial % 15u;
+        params.radius = 1.0f + static_cast<float>(trial % 4u);
+        const std::uint32_t p = restir::uniform_index(next_float(rng), pixel_count);
+        if (p == background_patch || !reservoirs[p].is_well_formed())
+            continue;
+        const restir::ReuseBridge bridge{StreamedTarget{}, StreamedVisibility{}};
+        restir::Pcg32 search = restir::make_pixel_rng(trial, 3u, 0u);
+        std::vector<Input> found;
+        const auto set = restir::find_spatial_neighbours(
+            pixel_of(p), patches[p], view, surfaces, params, offsets, bridge.material_test, search,
+            [&](restir::PixelCoord q) {
+                found.push_back({&view[q], &surfaces[q]});
+            });
+        ASSERT_EQ(set.size(), found.size()) << "trial " << trial;
+        for (std::uint32_t j = 0; j < set.size(); ++j) {
+            ASSERT_EQ(set[j].reservoir, found[j].reservoir) << "trial " << trial;
+            ASSERT_EQ(set[j].surface, found[j].surface) << "trial " << trial;
+        }
+        skipped += set.count - set.size();
+        slots += set.size();
+        ++sets;
+        for (BiasCorrection mode : modes)
+            for (int variant = 0; variant < 4; ++variant) {
+                const restir::ReuseParams reuse = params_of(mode, variant);
+                restir::Pcg32 a = search;
+                restir::Pcg32 b = search;
+                const auto combine = [&](const auto& inputs, restir::Pcg32& g) {
+                    switch (mode) {
+                    case BiasCorrection::none:
+                        return restir::combine_one_over_m(reservoirs[p], patches[p], inputs, reuse,
+                                                          bridge, g);
+                    case BiasCorrection::one_over_z:
+                        return restir::combine_one_over_z(reservoirs[p], patches[p], inputs, reuse,
+                                                          bridge, g);
+                    case BiasCorrection::balance_heuristic:
+                        return restir::combine_balance_heuristic(reservoirs[p], patches[p], inputs,
+                                                                 reuse, bridge, g);
+                    case BiasCorrection::pairwise:
+                        break;
+                    }
+                    return restir::combine_pairwise(reservoirs[p], patches[p], inputs, reuse,
+                                                    bridge, g);
+                };
+                const Reservoir<LightId> streamed = combine(set, a);
+                const Reservoir<LightId> gathered = combine(
+                    restir::ReuseInputSpan<LightId, Patch>{
+                        found.data(), static_cast<std::uint32_t>(found.size())},
+                    b);
+                ASSERT_NO_FATAL_FAILURE(expect_same(streamed, gathered, a, b, trial));
+            }
+    }
+    EXPECT_GT(sets, 200u); // about 300 of the 400 centres are valid and well-formed
+    EXPECT_GT(slots, sets * 2u) << "sets should hold several neighbours";
+    EXPECT_GT(skipped, sets / 4u) << "the search should skip malformed and invalid neighbours";
 }
 
 } // namespace

@@ -4,6 +4,7 @@
 
 #include "restir/config.hpp"
 
+#include <bit>
 #include <cstdint>
 
 namespace restir {
@@ -44,6 +45,27 @@ RESTIR_HOST_DEVICE constexpr T min_of(T a, T b) noexcept {
 template <class T>
 RESTIR_HOST_DEVICE constexpr T max_of(T a, T b) noexcept {
     return a < b ? b : a;
+}
+
+/// The number of set bits of `bits`.
+RESTIR_HOST_DEVICE constexpr std::uint32_t bit_count(std::uint32_t bits) noexcept {
+#if defined(__CUDA_ARCH__)
+    return static_cast<std::uint32_t>(__popc(bits));
+#else
+    return static_cast<std::uint32_t>(std::popcount(bits));
+#endif
+}
+
+/// The position of set bit `n` of `bits` (n = 0: the lowest), which has more than n set bits.
+RESTIR_HOST_DEVICE constexpr std::uint32_t nth_set_bit(std::uint32_t bits,
+                                                       std::uint32_t n) noexcept {
+    for (std::uint32_t k = 0; k < n; ++k)
+        bits &= bits - 1u; // clears the lowest set bit
+#if defined(__CUDA_ARCH__)
+    return static_cast<std::uint32_t>(__ffs(static_cast<int>(bits)) - 1);
+#else
+    return static_cast<std::uint32_t>(std::countr_zero(bits));
+#endif
 }
 
 /// `condition ? a : b` through a bit mask, without a branch.

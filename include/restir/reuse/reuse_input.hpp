@@ -11,6 +11,7 @@
 #include "restir/reuse/surface_source.hpp"
 
 #include <concepts>
+#include <cstddef>
 #include <cstdint>
 #include <type_traits>
 
@@ -135,6 +136,25 @@ template <class Sample, class SurfaceT>
 using SingleReuseInput [[deprecated("pass a ReuseInputSpan of one input")]] =
     detail::SingleReuseInput<Sample, SurfaceT>;
 
+namespace detail {
+/// `r.is_well_formed()`. On a GPU, where the weights (W-sum, p-hat, W, then M) fill one aligned
+/// 16 bytes, they are read in one load: a spatial pass reads its neighbours' at random, and a
+/// load costs the L1 one access per thread whatever its width.
+template <class Sample>
+RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE bool well_formed_in_buffer(const Reservoir<Sample>& r) {
+#if defined(__CUDA_ARCH__)
+    using R = Reservoir<Sample>;
+    if constexpr (std::is_standard_layout_v<R> && alignof(R) >= 16u &&
+                  offsetof(R, weight_sum) % 16u == 0u &&
+                  offsetof(R, candidate_count) == offsetof(R, weight_sum) + 12u) {
+        const float4 w = *reinterpret_cast<const float4*>(&r.weight_sum);
+        return is_valid_weight(w.x) && is_valid_weight(w.y) && is_valid_weight(w.z);
+    }
+#endif
+    return r.is_well_formed();
+}
+} // namespace detail
+
 /// Whether pixel `p` may lend its reservoir to `receiver`: `p` lies in both images, the
 /// reservoir is finite and the surfaces are similar; `surfaces` an `ImageView` or a
 /// `SurfaceDecoder`.
@@ -143,7 +163,8 @@ requires SurfaceSource<Surfaces, S> RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE bool
 lends_reservoir(PixelCoord p, const S& receiver, ImageView<const Reservoir<Sample>> reservoirs,
                 const Surfaces& surfaces, const SimilarityParams& similarity,
                 const MaterialTest& material_test) {
-    return reservoirs.contains(p) && surfaces.contains(p) && reservoirs[p].is_well_formed() &&
+    return reservoirs.contains(p) && surfaces.contains(p) &&
+           detail::well_formed_in_buffer(reservoirs[p]) &&
            surfaces_similar(receiver, surface_at(surfaces, p), similarity, material_test);
 }
 

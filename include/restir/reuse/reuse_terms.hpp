@@ -112,6 +112,13 @@ inline constexpr bool packed_inputs = requires {
     requires Inputs::packed;
 };
 
+/// Input sets that declare `streamed` recompute an input at every visit (host code gathers
+/// them into an array first).
+template <class Inputs>
+inline constexpr bool streamed_inputs = requires {
+    requires Inputs::streamed;
+};
+
 /// The cap a set puts on the M of the reservoirs it lends (`no_candidate_cap` by default).
 template <class Inputs>
 RESTIR_HOST_DEVICE constexpr std::uint32_t candidate_cap_of(const Inputs& inputs) {

@@ -111,11 +111,13 @@ RESTIR_HOST_DEVICE inline DiskOffset neighbour_rotation(float u) noexcept {
 /// The neighbours of a pixel that a spatial pass reuses, as a `ReuseInputs` set for the bias
 /// corrections: neighbour i of the pass (`spatial_neighbour`) lends its reservoir unless it is
 /// the pixel itself, outside the image, a dissimilar surface or non-finite (skipped, not
-/// replaced). The set is streamed: a visit recomputes neighbour i from the pass's start and
-/// rotation and skips it unless bit i of `lends` is set, so that no array of inputs is kept and
-/// a GPU thread holds the set in registers. (Host code gathers the lending inputs into an
-/// array once per combine, `combine_with`.) With surfaces from a `SurfaceDecoder` the inputs
-/// are `DecodedReuseInput`s, and a visit decodes the neighbour's surface.
+/// replaced). The set is streamed: its slots are the neighbours that lend (bit i of `lends`),
+/// in order, and a visit recomputes the neighbour from the pass's start and rotation, so that
+/// no array of inputs is kept and a GPU thread holds the set in registers. The search checked
+/// each one, so the set is `packed` and the bias corrections do not read its reservoirs' weights
+/// again. (Host code gathers the inputs into an array once per combine, `combine_with`.) With
+/// surfaces from a `SurfaceDecoder` the inputs are `DecodedReuseInput`s, and a visit decodes
+/// the neighbour's surface.
 template <class Sample, class S, class Surfaces = ImageView<const S>>
 struct SpatialNeighbours {
     /// Whether the surfaces are viewed in an array (inputs point into it).
@@ -133,15 +135,21 @@ struct SpatialNeighbours {
     std::uint32_t lends = 0u;                       ///< Bit i: neighbour i lends its reservoir.
     std::uint32_t candidate_cap = no_candidate_cap; ///< Caps the M each neighbour lends.
 
+    /// Every slot lends a well-formed reservoir (`lends_reservoir` held for it).
+    static constexpr bool packed = true;
+    /// Visiting a slot recomputes it (host code gathers the slots first).
+    static constexpr bool streamed = true;
+
     /// Neighbour i's pixel.
     RESTIR_HOST_DEVICE constexpr PixelCoord pixel(std::uint32_t i) const {
         return spatial_neighbour(centre, start, i, radius, *offsets, rotation);
     }
-    RESTIR_HOST_DEVICE constexpr std::uint32_t size() const noexcept { return count; }
-    RESTIR_HOST_DEVICE constexpr Input operator[](std::uint32_t i) const {
-        if ((lends >> i & 1u) == 0u)
-            return {};
-        const PixelCoord p = pixel(i);
+    /// The neighbours that lend.
+    RESTIR_HOST_DEVICE constexpr std::uint32_t size() const noexcept { return bit_count(lends); }
+    /// The j-th neighbour that lends.
+    RESTIR_HOST_DEVICE constexpr Input operator[](std::uint32_t j) const {
+        RESTIR_ASSERT(j < size());
+        const PixelCoord p = pixel(nth_set_bit(lends, j));
         if constexpr (in_array)
             return {&reservoirs[p], &surfaces[p]};
         else
