@@ -13,7 +13,8 @@
 // rays had rows of their own ("visibility", "final visibility") under ray-free reuse; they are
 // now inside the initial and finish rows in both modes (ray-free: `ReuseVisibility::assumed`;
 // --mis-rays: `traced`, where the reuse rows also hold the MIS rays), so those two rows include
-// the analytic scene's shadow rays, and only the G-buffer row is left out of the sum.
+// the analytic scene's shadow rays. The last row traces one such ray a pixel alone, after the
+// frame, to tell what they cost; it and the G-buffer row are left out of the sum.
 //
 // This file holds the run (setup, reference, the frames of each layout, the table) and main; the
 // rest, by job: options.hpp (command line), analytic_scene.hpp (scenes, cameras),

@@ -84,17 +84,12 @@ struct LoadedTexels {
 static_assert(sizeof(Texel) == 32u && alignof(Texel) == 16u && offsetof(Texel, normal) == 12u &&
               offsetof(Texel, depth) == 24u && offsetof(Texel, material) == 28u);
 
-#if defined(DI_TEXEL_VIEW)
-using FrameSurfaces = restir::ImageView<const Texel>;
-#else
-using FrameSurfaces = LoadedTexels;
-#endif
 using PlainFrame =
     restir::DiFrame<restir::LightPointSample, Texel, CameraReprojection,
                     restir::ImageView<const restir::Reservoir<restir::LightPointSample>>,
-                    FrameSurfaces>;
+                    LoadedTexels>;
 using PackedFrame = restir::DiFrame<restir::LightPointSample, Texel, CameraReprojection,
-                                    restir::PackedPointHistory<LightPointDecoder>, FrameSurfaces>;
+                                    restir::PackedPointHistory<LightPointDecoder>, LoadedTexels>;
 
 /// p-hat: the Euclidean norm of the unshadowed reflected radiance's channels (restir-render's).
 inline constexpr restir::ChannelNorm target_norm = restir::ChannelNorm::euclidean;
