@@ -78,6 +78,9 @@ inline void compare_item(Agreement& agreement, const box::Texel& cpu, const box:
     agreement.add(std::memcmp(&cpu, &gpu, sizeof(cpu)) == 0,
                   cpu.material == gpu.material && relative <= tolerance, relative);
 }
+inline void compare_item(Agreement& agreement, std::uint8_t cpu, std::uint8_t gpu) {
+    agreement.add(cpu == gpu, cpu == gpu, cpu == gpu ? 0.0 : 1.0);
+}
 inline void compare_item(Agreement& agreement, glm::vec3 cpu, glm::vec3 gpu) {
     const double relative = relative_difference(cpu, gpu, 1e-3);
     agreement.add(std::memcmp(&cpu, &gpu, sizeof(cpu)) == 0, relative <= tolerance, relative);
@@ -111,6 +114,7 @@ struct Comparison {
     std::vector<box::Reservoir> reservoirs;
     std::vector<box::Packed> packed;
     std::vector<glm::vec3> colors;
+    std::vector<std::uint8_t> answers; // the shadow rays'
     std::vector<float> planes;
 
     // The outputs of `w`: CPU's in `h`, GPU's in `d`.
@@ -140,15 +144,9 @@ struct Comparison {
             std::copy(refs.begin(), refs.end(), h.tiles.references);
             break;
         }
-        case Pass::shadow_rays: {
-            std::vector<std::uint8_t> visible(pixels);
-            download(visible.data(), d.visible, pixels);
-            for (std::size_t i = 0; i < pixels; ++i) {
-                const bool same = visible[i] == h.visible[i];
-                a.add(same, same, same ? 0.0 : 1.0);
-            }
+        case Pass::shadow_rays:
+            settle(a, h.visible, d.visible, pixels, answers);
             break;
-        }
         default:
             // The buffer the step wrote (finish: `out`, in place), and the shading's outputs.
             settle(a, h.buffers()[w.step.output].data, d.buffers()[w.step.output].data, pixels,

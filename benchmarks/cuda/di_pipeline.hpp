@@ -60,13 +60,10 @@ struct LightPointDecoder {
 /// each load of a warp touches 32 cache lines: one load of 16 bytes costs the L1 what one of 4
 /// bytes does, and field by field a texel took eight.
 struct LoadedTexels {
-    const Texel* data = nullptr;
-    std::uint32_t width = 0u, height = 0u;
-    RESTIR_HOST_DEVICE bool contains(restir::PixelCoord p) const {
-        return restir::ImageView<const Texel>{data, width, height}.contains(p);
-    }
+    restir::ImageView<const Texel> texels{};
+    RESTIR_HOST_DEVICE bool contains(restir::PixelCoord p) const { return texels.contains(p); }
     RESTIR_HOST_DEVICE Texel surface(restir::PixelCoord p) const {
-        const Texel* t = &restir::ImageView<const Texel>{data, width, height}[p];
+        const Texel* t = &texels[p];
 #if defined(__CUDA_ARCH__)
         const float4 a = __ldg(reinterpret_cast<const float4*>(t));
         const float4 b = __ldg(reinterpret_cast<const float4*>(t) + 1);
