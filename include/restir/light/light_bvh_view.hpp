@@ -89,8 +89,9 @@ struct LightBvhView {
     /// `Count` draws for one shading point at once: draw k is `sample(at, u0[k], u1[k])`,
     /// exactly. The descents advance a level at a time side by side, so that a CPU overlaps
     /// their chains of dependent levels (and their cache misses) instead of waiting on each in
-    /// turn (the chains, not the arithmetic, bound a single draw). In device code its loops over
-    /// the draws unroll, so the descents stay in registers.
+    /// turn (the chains, not the arithmetic, bound a single draw). On a CPU, draws that reach
+    /// the same group weigh its children once (every draw starts at the root). In device code
+    /// its loops over the draws unroll, so the descents stay in registers.
     template <std::uint32_t Count>
     RESTIR_HOST_DEVICE void sample(const ShadingPoint& at, const float (&u0)[Count],
                                    const float (&u1)[Count], DiscreteSample (&out)[Count]) const {
@@ -99,15 +100,8 @@ struct LightBvhView {
         RESTIR_UNROLL
         for (std::uint32_t k = 0u; k < Count; ++k)
             descents[k] = Descent{u0[k], u1[k], count == 0u, root};
-        for (bool active = count > 0u; active;) {
-            active = false;
-            RESTIR_UNROLL
-            for (std::uint32_t k = 0u; k < Count; ++k) {
-                if (!descents[k].done)
-                    step(at, descents[k]);
-                active = active || !descents[k].done;
-            }
-        }
+        for (bool active = count > 0u; active;)
+            active = advance(at, descents);
         RESTIR_UNROLL
         for (std::uint32_t k = 0u; k < Count; ++k)
             out[k] = descents[k].result;
@@ -157,30 +151,88 @@ private:
         DiscreteSample result{};
     };
 
+    // One level of every descent of a batch still under way; whether any still is. All of them
+    // are at the same depth. On a CPU, descents at the same group share its weights (the same
+    // bounds, bit for bit): all of them at the root, and most at the levels below it where the
+    // lights near `at` dominate. In device code each descent weighs its own group, one after
+    // the other, so that one group's weights are live at a time (fewer registers).
+    template <std::uint32_t Count>
+    RESTIR_HOST_DEVICE bool advance(const ShadingPoint& at, Descent (&descents)[Count]) const {
+        bool active = false;
+#if defined(__CUDA_ARCH__)
+        RESTIR_UNROLL
+        for (std::uint32_t k = 0u; k < Count; ++k) {
+            if (!descents[k].done)
+                step(at, descents[k]);
+            active = active || !descents[k].done;
+        }
+#else
+        Weights weights[Count];
+        std::uint32_t weighed_by[Count];
+        for (std::uint32_t k = 0u; k < Count; ++k) {
+            weighed_by[k] = k;
+            if (descents[k].done)
+                continue;
+            for (std::uint32_t j = 0u; j < k; ++j)
+                if (!descents[j].done && descents[j].group == descents[k].group) {
+                    weighed_by[k] = j;
+                    break;
+                }
+            if (weighed_by[k] == k)
+                weigh(at, descents[k], weights[k]);
+        }
+        for (std::uint32_t k = 0u; k < Count; ++k) {
+            if (!descents[k].done)
+                choose(weights[weighed_by[k]], descents[k]);
+            active = active || !descents[k].done;
+        }
+#endif
+        return active;
+    }
+
+    // The weights of the children of a descent's group: their importance bounds at the point
+    // and, where the lanes' grids are worked out beside them, those grids.
+    struct Weights {
+        float importance[arity];
+#if RESTIR_LIGHT_BVH_LANE_GRIDS
+        float origins[3][arity], cells[3][arity];
+#endif
+    };
+
     // One level of a draw: weighs the children of its group and takes one, in proportion to
     // their importance; ends the draw at a leaf, or where no child can light `at`.
     RESTIR_HOST_DEVICE void step(const ShadingPoint& at, Descent& d) const {
-        if (d.depth == levels_per_number)
-            d.u = d.u_deep;
+        Weights w;
+        weigh(at, d, w);
+        choose(w, d);
+    }
+
+    RESTIR_HOST_DEVICE void weigh(const ShadingPoint& at, const Descent& d, Weights& w) const {
         const LightBvhGroup& g = groups[d.group];
         prefetch_children(g);
-        float importance[arity];
-        g.bounds(at, d.grid, importance);
+        g.bounds(at, d.grid, w.importance);
 #if RESTIR_LIGHT_BVH_LANE_GRIDS
         // Every lane's grid side by side, while the bounds compute: the chosen one is then a
         // load rather than a chain of operations before the next level can start.
-        float origins[3][arity], cells[3][arity];
         RESTIR_VECTORIZE
         for (std::uint32_t c = 0u; c < arity; ++c) {
             const LightBvhBox box = g.box(c, d.grid);
-            origins[0][c] = box.lower.x;
-            origins[1][c] = box.lower.y;
-            origins[2][c] = box.lower.z;
-            cells[0][c] = detail::grid_step(box.lower.x, box.upper.x);
-            cells[1][c] = detail::grid_step(box.lower.y, box.upper.y);
-            cells[2][c] = detail::grid_step(box.lower.z, box.upper.z);
+            w.origins[0][c] = box.lower.x;
+            w.origins[1][c] = box.lower.y;
+            w.origins[2][c] = box.lower.z;
+            w.cells[0][c] = detail::grid_step(box.lower.x, box.upper.x);
+            w.cells[1][c] = detail::grid_step(box.lower.y, box.upper.y);
+            w.cells[2][c] = detail::grid_step(box.lower.z, box.upper.z);
         }
 #endif
+    }
+
+    // The choice of a child from its group's weights `w`.
+    RESTIR_HOST_DEVICE void choose(const Weights& w, Descent& d) const {
+        if (d.depth == levels_per_number)
+            d.u = d.u_deep;
+        const LightBvhGroup& g = groups[d.group];
+        const float(&importance)[arity] = w.importance;
         const float total = detail::pairwise_total(importance);
         if (!(total > 0.0f)) { // no child can light `at`
             d.done = true;
@@ -229,8 +281,8 @@ private:
         }
         d.group = g.child_or_light[child];
 #if RESTIR_LIGHT_BVH_LANE_GRIDS
-        d.grid = {glm::vec3(origins[0][child], origins[1][child], origins[2][child]),
-                  glm::vec3(cells[0][child], cells[1][child], cells[2][child])};
+        d.grid = {glm::vec3(w.origins[0][child], w.origins[1][child], w.origins[2][child]),
+                  glm::vec3(w.cells[0][child], w.cells[1][child], w.cells[2][child])};
 #else
         d.grid = g.child_grid(child, d.grid);
 #endif
