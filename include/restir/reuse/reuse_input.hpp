@@ -137,16 +137,17 @@ using SingleReuseInput [[deprecated("pass a ReuseInputSpan of one input")]] =
     detail::SingleReuseInput<Sample, SurfaceT>;
 
 namespace detail {
-/// `r.is_well_formed()`. On a GPU, where the weights (W-sum, p-hat, W, then M) fill one aligned
+/// `r.is_well_formed()`. On a GPU, where the three weights (W-sum, p-hat, W) start an aligned
 /// 16 bytes, they are read in one load: a spatial pass reads its neighbours' at random, and a
 /// load costs the L1 one access per thread whatever its width.
 template <class Sample>
 RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE bool well_formed_in_buffer(const Reservoir<Sample>& r) {
 #if defined(__CUDA_ARCH__)
     using R = Reservoir<Sample>;
-    if constexpr (std::is_standard_layout_v<R> && alignof(R) >= 16u &&
-                  offsetof(R, weight_sum) % 16u == 0u &&
-                  offsetof(R, candidate_count) == offsetof(R, weight_sum) + 12u) {
+    constexpr std::size_t first = offsetof(R, weight_sum);
+    if constexpr (std::is_standard_layout_v<R> && alignof(R) >= 16u && first % 16u == 0u &&
+                  offsetof(R, target_value) == first + 4u &&
+                  offsetof(R, contribution_weight) == first + 8u) {
         const float4 w = *reinterpret_cast<const float4*>(&r.weight_sum);
         return is_valid_weight(w.x) && is_valid_weight(w.y) && is_valid_weight(w.z);
     }
