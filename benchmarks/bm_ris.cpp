@@ -144,6 +144,7 @@ struct PointLightSet {
         p.is_delta = true;
         return p;
     }
+    const void* prefetch_address(std::uint32_t id) const { return lights + id; }
 };
 
 struct Tiles {
@@ -165,6 +166,20 @@ struct Tiles {
             view.store(i / kTileSize, i % kTileSize, restir::presample_light(sampler, set, rng),
                        {restir::FalloffKind::yuksel, kLightRadius});
         }
+    }
+    // The same entries by `presample_lights`, which asks for each draw's reads ahead.
+    void fill_batched(const std::vector<PointLight>& lights,
+                      const restir::PowerLightSampler& sampler, std::uint32_t frame) const {
+        const PointLightSet set{lights.data(), static_cast<std::uint32_t>(lights.size())};
+        restir::presample_lights(
+            sampler, set, kTileCount * kTileSize,
+            [&](std::uint32_t i) {
+                return restir::make_pixel_rng(i, frame, restir::RngStream::application);
+            },
+            [&](std::uint32_t i, const restir::PresampledLight& entry) {
+                view.store(i / kTileSize, i % kTileSize, entry,
+                           {restir::FalloffKind::yuksel, kLightRadius});
+            });
     }
 };
 
@@ -263,17 +278,27 @@ void BM_RIS_BatchSelect(benchmark::State& state) {
 }
 BENCHMARK(BM_RIS_BatchSelect);
 
-// Filling 256 tiles of 1024 presampled lights (a renderer does this once per frame).
-void BM_LightTiles_Fill(benchmark::State& state) {
+// Filling 256 tiles of 1024 presampled lights (a renderer does this once per frame), by
+// `Tiles::fill` or `Tiles::fill_batched`.
+void fill_tiles(benchmark::State& state,
+                void (Tiles::*fill)(const std::vector<PointLight>&,
+                                    const restir::PowerLightSampler&, std::uint32_t) const) {
     const std::vector<PointLight> lights = make_lights(static_cast<std::size_t>(state.range(0)));
     const restir::AliasTable table(light_powers(lights));
     const restir::PowerLightSampler sampler{table.view()};
     const Tiles tiles(lights, sampler);
     std::uint32_t frame = 1u;
     for (auto _ : state)
-        tiles.fill(lights, sampler, frame++);
+        (tiles.*fill)(lights, sampler, frame++);
     state.SetItemsProcessed(state.iterations() * std::int64_t{kTileCount * kTileSize});
 }
+
+// One entry after another.
+void BM_LightTiles_Fill(benchmark::State& state) { fill_tiles(state, &Tiles::fill); }
 BENCHMARK(BM_LightTiles_Fill)->Arg(1000)->Arg(1000000)->Unit(benchmark::kMillisecond);
+
+// `presample_lights`: a chunk's alias buckets and lights asked for ahead.
+void BM_LightTiles_FillBatched(benchmark::State& state) { fill_tiles(state, &Tiles::fill_batched); }
+BENCHMARK(BM_LightTiles_FillBatched)->Arg(1000)->Arg(1000000)->Unit(benchmark::kMillisecond);
 
 } // namespace

@@ -12,7 +12,7 @@ while [ $# -gt 0 ] && [ "$1" != "--" ]; do binaries+=("$1"); shift; done
 [ $# -gt 0 ] && shift
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
-columns=(frame_ms primary_ms candidates_ms temporal_ms spatial_ms shading_ms)
+columns=(frame_ms primary_ms tiles_ms candidates_ms temporal_ms spatial_ms shading_ms)
 median() { # CSV COLUMN: the median over frames 2..N
   awk -F, -v name="$2" 'NR == 1 { for (i = 1; i <= NF; ++i) if ($i == name) c = i; next }
     NR > 2 { print $c }' "$1" | sort -n | awk '{ v[NR] = $1 } END {
@@ -26,9 +26,9 @@ for round in $(seq "$rounds"); do
     echo >>"$dir/$n.txt"
   done
 done
-echo "| binary | frame | primary | candidates | temporal | spatial | shading |"
-echo "| --- | --- | --- | --- | --- | --- | --- |"
+echo "| binary | frame | primary | tiles | candidates | temporal | spatial | shading |"
+echo "| --- | --- | --- | --- | --- | --- | --- | --- |"
 for n in "${!binaries[@]}"; do
   printf '| %s | %s |\n' "${binaries[$n]}" "$(awk '{ for (i = 1; i <= NF; ++i) if (NR == 1 || $i < m[i]) m[i] = $i }
-    END { for (i = 1; i <= 6; ++i) printf "%s%s", m[i], i < 6 ? " | " : "" }' "$dir/$n.txt")"
+    END { for (i = 1; i <= NF; ++i) printf "%s%s", m[i], i < NF ? " | " : "" }' "$dir/$n.txt")"
 done

@@ -89,14 +89,20 @@ public:
             tbb::parallel_for(
                 tbb::blocked_range<std::uint32_t>(0u, tile_count * tile_size, 256u),
                 [&](const tbb::blocked_range<std::uint32_t>& range) {
-                    for (std::uint32_t i = range.begin(); i < range.end(); ++i) {
-                        restir::Pcg32 rng =
-                            restir::make_pixel_rng(i, frame_index, RenderStream::light_tiles, seed);
-                        const restir::PresampledLight entry =
-                            by_power_ ? restir::presample_light(power, lights_.lights(), rng)
-                                      : restir::presample_light(uniform, lights_.lights(), rng);
-                        tiles_.store(i / tile_size, i % tile_size, entry, lights_.falloff());
-                    }
+                    const std::uint32_t first = range.begin();
+                    const auto rng_of = [&](std::uint32_t k) {
+                        return restir::make_pixel_rng(first + k, frame_index,
+                                                      RenderStream::light_tiles, seed);
+                    };
+                    const auto store = [&](std::uint32_t k, const restir::PresampledLight& e) {
+                        const std::uint32_t i = first + k;
+                        tiles_.store(i / tile_size, i % tile_size, e, lights_.falloff());
+                    };
+                    const std::uint32_t count = range.end() - first;
+                    if (by_power_)
+                        restir::presample_lights(power, lights_.lights(), count, rng_of, store);
+                    else
+                        restir::presample_lights(uniform, lights_.lights(), count, rng_of, store);
                 });
         });
     }

@@ -60,6 +60,9 @@ public:
         return s;
     }
 
+    /// What `sample_point` reads of emitter `id`, for a prefetch.
+    const void* prefetch_address(std::uint32_t id) const { return &triangles_[id]; }
+
     /// restir::ReceiverLightSet: a point of emitter `id` uniform in the solid angle it subtends
     /// from `from` (Arvo; by area where it subtends less than restir::min_solid_angle_for_arvo),
     /// with its density per unit area.

@@ -129,6 +129,12 @@ __global__ void tile_kernel(restir::PresampledLight* entries, const glm::vec3* e
     const PointEmitters lights{emitters, emitter_count};
     const restir::PowerLightSampler sampler{restir::AliasTableView{alias_entries, emitter_count}};
     entries[i] = restir::presample_light(sampler, lights, rng);
+    restir::presample_lights( // the batched fill: one entry a thread, as the line above
+        sampler, lights, 1u,
+        [&](std::uint32_t) {
+            return restir::make_pixel_rng(i, 0u, restir::RngStream::application);
+        },
+        [&](std::uint32_t, const restir::PresampledLight& e) { entries[i] = e; });
     const restir::LightTilesView tiles{entries, 4u, 64u};
     const float u0 = next_float(rng);
     const float u1 = next_float(rng);

@@ -57,6 +57,45 @@ TEST(LightTiles, EntriesCarryTheirPdfAndEvaluatedPoint) {
     }
 }
 
+// A light set that says what its points read, to be asked for ahead.
+struct PrefetchedLineLights : LineLights {
+    const void* prefetch_address(std::uint32_t id) const {
+        asked.push_back(id);
+        return this;
+    }
+    mutable std::vector<std::uint32_t> asked;
+};
+
+// The batched fill hands out the entries of one-by-one draws, bit for bit, over a partial last
+// chunk too, and asks for each drawn light's data ahead where the light set tells it how.
+TEST(LightTiles, BatchedFillEqualsOneByOneDraws) {
+    const restir::AliasTable table(powers());
+    const restir::PowerLightSampler sampler{table.view()};
+    constexpr std::uint32_t count = 150u;
+    const std::vector<restir::PresampledLight> expected = fill(table, count, 9u);
+    const PrefetchedLineLights lights;
+    std::vector<restir::PresampledLight> got(count);
+    std::vector<int> stored(count, 0);
+    restir::presample_lights(
+        sampler, lights, count,
+        [](std::uint32_t k) { return restir::make_pixel_rng(k, 0u, 0u, 9u); },
+        [&](std::uint32_t k, const restir::PresampledLight& e) {
+            got[k] = e;
+            ++stored[k];
+        });
+    for (std::uint32_t k = 0; k < count; ++k) {
+        EXPECT_EQ(stored[k], 1) << k;
+        EXPECT_EQ(got[k].reference.light_id, expected[k].reference.light_id) << k;
+        EXPECT_EQ(got[k].reference.uv, expected[k].reference.uv) << k;
+        EXPECT_EQ(got[k].pdf, expected[k].pdf) << k;
+        EXPECT_EQ(got[k].point.position, expected[k].point.position) << k;
+        EXPECT_EQ(got[k].point.radiance, expected[k].point.radiance) << k;
+    }
+    ASSERT_EQ(lights.asked.size(), count);
+    for (std::uint32_t k = 0; k < count; ++k)
+        EXPECT_EQ(lights.asked[k], expected[k].reference.light_id) << k;
+}
+
 // Draws from random tiles of freshly filled tile sets follow the sampler's pmf.
 TEST(LightTiles, TileDrawsFollowTheSourceDistribution) {
     const restir::AliasTable table(powers());

@@ -54,6 +54,19 @@ TEST(UnifiedLightSet, EmittersFirstThenVpls) {
         EXPECT_NEAR(powers[2 + i], channel_sum(vpls[i].flux), 1e-6f * channel_sum(vpls[i].flux));
 }
 
+// A prefetch is asked for the VPL that a VPL id reads; emitters that say nothing of their data,
+// and ids out of range, give the set itself (a harmless address).
+TEST(UnifiedLightSet, PrefetchAddressIsTheVplRead) {
+    const RectangleLights emitters = two_rectangles();
+    const std::vector<restir::Vpl> vpls = some_vpls();
+    ASSERT_GT(vpls.size(), 5u);
+    const Unified lights{&emitters, vpls.data(), static_cast<std::uint32_t>(vpls.size())};
+    EXPECT_EQ(lights.prefetch_address(2u + 5u), &vpls[5]);
+    EXPECT_EQ(lights.prefetch_address(lights.light_count() - 1u), &vpls.back());
+    EXPECT_EQ(lights.prefetch_address(1u), &lights);
+    EXPECT_EQ(lights.prefetch_address(lights.light_count()), &lights);
+}
+
 // RIS with candidates from one power-proportional distribution over emitters and VPLs
 // estimates the total unshadowed irradiance, direct (emitters) plus indirect (VPLs).
 TEST(UnifiedLightSet, RisOverEmittersAndVplsIsUnbiased) {

@@ -63,6 +63,18 @@ struct UnifiedLightSet {
         return vpl_light_sample(vpls[id - first_vpl()]);
     }
 
+    /// What `sample_point(id, uv)` reads, for a prefetch: the VPL, or the emitter's data where
+    /// the emitter set tells it (`emitters->prefetch_address(id)`); else this object (an id
+    /// out of range too).
+    RESTIR_HOST_DEVICE const void* prefetch_address(std::uint32_t id) const {
+        if (id >= first_vpl() && id < light_count())
+            return vpls + (id - first_vpl());
+        if constexpr (requires { emitters->prefetch_address(id); })
+            if (id < emitter_count())
+                return emitters->prefetch_address(id);
+        return this;
+    }
+
     /// The emitter's point for `uv` drawn from the receiver at `from` (`ReceiverLightSet`), or
     /// the environment's direction or the VPL, which do not depend on the receiver. Only when
     /// the emitter set draws points from receivers.
