@@ -108,8 +108,9 @@ struct GridCandidate {
 /// candidates. An entry stays empty (pdf 0) when none of its candidates has a positive weight,
 /// or when their weights overflow a float. All lights are drawn first (what each draw reads asked
 /// for ahead when the sampler tells it, `prefetch_address(u0, u1)`, as `PowerLightSampler` does),
-/// then weighed (their bounds prefetched ahead), then chosen: on a CPU the loops carry no chain
-/// from one candidate to the next, so their cache misses overlap.
+/// then weighed (their bounds prefetched ahead), then chosen (the chosen lights asked for ahead
+/// of their points, `lights.prefetch_address(id)` where the set offers it): on a CPU the loops
+/// carry no chain from one candidate to the next, so their cache misses overlap.
 template <LightSampler Sampler, class NodeOf, LightSet Lights, UniformRng Rng, class Store>
 RESTIR_HOST_DEVICE void
 resample_grid_tile(const Sampler& sampler, const ShadingPoint& region, const NodeOf& node_of,
@@ -145,25 +146,34 @@ resample_grid_tile(const Sampler& sampler, const ShadingPoint& region, const Nod
         c.target = pmf > 0.0f ? light_importance(node_of(c.light), region) : 0.0f;
         c.weight = pmf > 0.0f ? c.target / pmf : 0.0f;
     }
-    for (std::uint32_t j = 0u; j < entry_count; ++j) {
-        // One of candidates [j m, j m + m) in proportion to w (Talbot 2005, Eq. 3.2).
-        const GridCandidate* first = scratch + std::uint64_t{j} * m;
-        float total = 0.0f;
-        for (std::uint32_t k = 0u; k < m; ++k)
-            total += first[k].weight;
-        float x = next_float(rng) * total;
-        std::uint32_t chosen = 0u;
-        for (std::uint32_t k = 0u; k < m; ++k) {
-            chosen = first[k].weight > 0.0f ? k : chosen; // never one of weight 0
-            if (x < first[k].weight)
-                break;
-            x -= first[k].weight;
+    // The entries chosen a run at a time, their lights asked for ahead of their points.
+    for (std::uint32_t run = 0u; run < entry_count; run += chunk) {
+        const std::uint32_t n = min_of(chunk, entry_count - run);
+        SourceSample<LightSampleRef> entries[chunk];
+        for (std::uint32_t e = 0u; e < n; ++e) {
+            // One of candidates [j m, j m + m) in proportion to w (Talbot 2005, Eq. 3.2).
+            const GridCandidate* first = scratch + std::uint64_t{run + e} * m;
+            float total = 0.0f;
+            for (std::uint32_t k = 0u; k < m; ++k)
+                total += first[k].weight;
+            float x = next_float(rng) * total;
+            std::uint32_t chosen = 0u;
+            for (std::uint32_t k = 0u; k < m; ++k) {
+                chosen = first[k].weight > 0.0f ? k : chosen; // never one of weight 0
+                if (x < first[k].weight)
+                    break;
+                x -= first[k].weight;
+            }
+            const GridCandidate y = m > 0u ? first[chosen] : GridCandidate{};
+            const float pdf = total > 0.0f && y.target > 0.0f && is_finite(total)
+                                  ? y.target * static_cast<float>(m) / total
+                                  : 0.0f;
+            entries[e] = with_uniform_point({y.light, pdf}, rng);
+            if constexpr (requires { lights.prefetch_address(y.light); })
+                RESTIR_PREFETCH(lights.prefetch_address(y.light));
         }
-        const GridCandidate y = m > 0u ? first[chosen] : GridCandidate{};
-        const float pdf = total > 0.0f && y.target > 0.0f && is_finite(total)
-                              ? y.target * static_cast<float>(m) / total
-                              : 0.0f;
-        store(j, presampled(with_uniform_point({y.light, pdf}, rng), lights));
+        for (std::uint32_t e = 0u; e < n; ++e)
+            store(run + e, presampled(entries[e], lights));
     }
 }
 
