@@ -151,7 +151,8 @@ resample_grid_tile(const Sampler& sampler, const ShadingPoint& region, const Nod
         const std::uint32_t n = min_of(chunk, entry_count - run);
         SourceSample<LightSampleRef> entries[chunk];
         for (std::uint32_t e = 0u; e < n; ++e) {
-            // One of candidates [j m, j m + m) in proportion to w (Talbot 2005, Eq. 3.2).
+            // Entry j = run + e: one of candidates [j m, j m + m) in proportion to w (Talbot
+            // 2005, Eq. 3.2).
             const GridCandidate* first = scratch + std::uint64_t{run + e} * m;
             float total = 0.0f;
             for (std::uint32_t k = 0u; k < m; ++k)
