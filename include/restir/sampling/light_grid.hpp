@@ -129,8 +129,7 @@ resample_grid_tile(const Sampler& sampler, const ShadingPoint& region, const Nod
         for (std::uint32_t k = 0u; k < n; ++k) {
             u[k][0] = next_float(rng); // the order of `sample_light`
             u[k][1] = next_float(rng);
-            if constexpr (requires { sampler.prefetch_address(0.0f, 0.0f); })
-                RESTIR_PREFETCH(sampler.prefetch_address(u[k][0], u[k][1]));
+            detail::prefetch_draw(sampler, u[k][0], u[k][1]);
         }
         for (std::uint32_t k = 0u; k < n; ++k) {
             const DiscreteSample drawn = sampler.sample(u[k][0], u[k][1]);
@@ -170,8 +169,8 @@ resample_grid_tile(const Sampler& sampler, const ShadingPoint& region, const Nod
                                   ? y.target * static_cast<float>(m) / total
                                   : 0.0f;
             entries[e] = with_uniform_point({y.light, pdf}, rng);
-            if constexpr (requires { lights.prefetch_address(y.light); })
-                RESTIR_PREFETCH(lights.prefetch_address(y.light));
+            if (pdf > 0.0f) // a light, whose point `presampled` evaluates
+                detail::prefetch_light(lights, y.light);
         }
         for (std::uint32_t e = 0u; e < n; ++e)
             store(run + e, presampled(entries[e], lights));

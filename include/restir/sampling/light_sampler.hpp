@@ -66,6 +66,24 @@ struct PowerLightSampler {
     RESTIR_HOST_DEVICE constexpr std::uint32_t light_count() const noexcept { return table.size; }
 };
 
+namespace detail {
+/// Asks for what `sampler.sample(u0, u1)` reads, where the sampler says (`prefetch_address`).
+template <class Sampler>
+RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE void prefetch_draw(const Sampler& sampler, float u0,
+                                                          float u1) {
+    if constexpr (requires { sampler.prefetch_address(u0, u1); })
+        RESTIR_PREFETCH(sampler.prefetch_address(u0, u1));
+}
+
+/// Asks for what `lights.sample_point(id, uv)` reads, where the light set says
+/// (`prefetch_address(id)`, `UnifiedLightSet` among them).
+template <class Lights>
+RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE void prefetch_light(const Lights& lights, std::uint32_t id) {
+    if constexpr (requires { lights.prefetch_address(id); })
+        RESTIR_PREFETCH(lights.prefetch_address(id));
+}
+} // namespace detail
+
 /// Draws a light with two numbers taken from `rng` in a fixed order. Prefer it to
 /// `s.sample(next_float(rng), next_float(rng))`, whose argument order is up to the compiler:
 /// host and device builds would then choose different lights from the same seed.

@@ -88,14 +88,13 @@ RESTIR_HOST_DEVICE void presample_lights(const Sampler& sampler, const Lights& l
             auto rng = rng_of(first + k);
             for (float& number : u[k]) // light, then uv: the order of `draw_light_candidate`
                 number = next_float(rng);
-            if constexpr (requires { sampler.prefetch_address(0.0f, 0.0f); })
-                RESTIR_PREFETCH(sampler.prefetch_address(u[k][0], u[k][1]));
+            detail::prefetch_draw(sampler, u[k][0], u[k][1]);
         }
         DiscreteSample drawn[chunk];
         for (std::uint32_t k = 0u; k < n; ++k) {
             drawn[k] = sampler.sample(u[k][0], u[k][1]);
-            if constexpr (requires { lights.prefetch_address(drawn[k].index); })
-                RESTIR_PREFETCH(lights.prefetch_address(drawn[k].index));
+            if (drawn[k].pmf > 0.0f) // a light, whose point `presampled` evaluates
+                detail::prefetch_light(lights, drawn[k].index);
         }
         for (std::uint32_t k = 0u; k < n; ++k)
             store(
