@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -297,6 +298,31 @@ TEST(SpatialReuse, HugeOrNanRadiusIsClamped) {
     EXPECT_EQ(restir::offset_coordinate(10, -2.6f), 7);
     EXPECT_EQ(restir::offset_coordinate(10, 2.4f), 12);
     EXPECT_EQ(restir::offset_coordinate(10, nan), 10);
+    // Rounded half away from zero after clamping to 2^24, as the formula with branches on the
+    // sign rounds (the library's is without branches), at the halves and the clamp's ends and for
+    // random offsets of either sign.
+    const auto rounded = [](std::int32_t c, float offset) {
+        const float clamped = offset > 0.0f   ? std::min(offset, 16777216.0f) + 0.5f
+                              : offset < 0.0f ? std::max(offset, -16777216.0f) - 0.5f
+                                              : 0.0f;
+        return static_cast<std::int32_t>(std::int64_t{c} + static_cast<std::int64_t>(clamped));
+    };
+    const float infinity = std::numeric_limits<float>::infinity();
+    std::vector<float> cases = {0.0f, 0.49999997f, 0.5f,        0.50000006f, 1.5f,     2.5f,
+                                1e7f, 16777216.0f, 16777218.0f, 3e7f,        infinity, 1e-30f};
+    restir::Pcg32 numbers = restir::make_pixel_rng(5u, 0u, 0u);
+    for (int i = 0; i < 1000; ++i)
+        cases.push_back(200.0f * next_float(numbers) - 100.0f);
+    for (const float offset : cases)
+        for (const float sign : {1.0f, -1.0f}) {
+            EXPECT_EQ(restir::offset_coordinate(10, sign * offset), rounded(10, sign * offset))
+                << sign * offset;
+            EXPECT_EQ(restir::offset_coordinate(-7, sign * offset), rounded(-7, sign * offset))
+                << sign * offset;
+        }
+    EXPECT_EQ(restir::offset_coordinate(10, -0.5f), 9);
+    EXPECT_EQ(restir::offset_coordinate(10, 0.5f), 11);
+    EXPECT_EQ(restir::offset_coordinate(10, -infinity), 10 - 16777216);
 
     restir::TemporalParams params = restir::default_temporal_params();
     params.history_cap_multiplier = 3'000'000'000u;

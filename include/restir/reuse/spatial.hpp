@@ -50,11 +50,17 @@ RESTIR_HOST_DEVICE constexpr SpatialParams default_spatial_params() noexcept { r
 /// range; no conversion or addition is ever undefined.
 RESTIR_HOST_DEVICE constexpr std::int32_t offset_coordinate(std::int32_t coordinate,
                                                             float offset) noexcept {
+    // Without branches: the sign of a rotated offset is random, and branches on it were
+    // mispredicted half the time (a spatial pass computes k of these per pixel).
     constexpr float limit = 16777216.0f;
-    const float clamped = offset > 0.0f   ? min_of(offset, limit) + 0.5f
-                          : offset < 0.0f ? max_of(offset, -limit) - 0.5f
-                                          : 0.0f;
-    const std::int64_t sum = std::int64_t{coordinate} + static_cast<std::int64_t>(clamped);
+    const std::uint32_t bits = __builtin_bit_cast(std::uint32_t, offset);
+    const bool is_nan = (bits & 0x7fffffffu) > 0x7f800000u;
+    const float clamped = is_nan ? 0.0f : min_of(max_of(offset, -limit), limit);
+    // Half away from zero: 0.5 with the offset's sign, added, then truncated.
+    const float half =
+        __builtin_bit_cast(float, (__builtin_bit_cast(std::uint32_t, clamped) & 0x80000000u) |
+                                      __builtin_bit_cast(std::uint32_t, 0.5f));
+    const std::int64_t sum = std::int64_t{coordinate} + static_cast<std::int64_t>(clamped + half);
     constexpr std::int64_t lowest = -2147483647 - 1;
     constexpr std::int64_t highest = 2147483647;
     return static_cast<std::int32_t>(sum < lowest ? lowest : sum > highest ? highest : sum);
