@@ -228,6 +228,16 @@ TEST(StreamedReuse, SpatialSetHoldsTheLendingNeighboursInOrder) {
                 found.push_back({&view[q], &surfaces[q]});
             });
         ASSERT_EQ(set.size(), found.size()) << "trial " << trial;
+        // Drawn ahead (`draw_neighbours`, as the tiled recipe draws them), the same numbers are
+        // taken and the same neighbours found.
+        restir::Pcg32 ahead = restir::make_pixel_rng(trial, 3u, 0u);
+        const restir::NeighbourDraw draw = restir::draw_neighbours(ahead);
+        const auto drawn = restir::find_spatial_neighbours<LightId, Patch>(
+            pixel_of(p), patches[p], view, surfaces, params, offsets, bridge.material_test, draw);
+        ASSERT_EQ(drawn.lends, set.lends) << "trial " << trial;
+        ASSERT_EQ(drawn.start, set.start) << "trial " << trial;
+        restir::Pcg32 after = search;
+        ASSERT_EQ(ahead.next_uint(), after.next_uint()) << "trial " << trial;
         for (std::uint32_t j = 0; j < set.size(); ++j) {
             ASSERT_EQ(set[j].reservoir, found[j].reservoir) << "trial " << trial;
             ASSERT_EQ(set[j].surface, found[j].surface) << "trial " << trial;

@@ -387,9 +387,16 @@ requires(std::same_as<History, ImageView<const Reservoir<Sample>>> ||
     RESTIR_HOST_DEVICE SpatialNeighbours<Sample, S, Surfaces>
     neighbours(PixelCoord pixel, ImageView<const Reservoir<Sample>> input, const Bridge& bridge,
                Rng& rng, const Lending& lending = {}) const {
-        return find_spatial_neighbours(pixel, surface_at(surfaces, pixel), input, surfaces,
-                                       params.spatial, offset_table(), bridge.material_test, rng,
-                                       lending);
+        return neighbours(pixel, input, bridge, draw_neighbours(rng), lending);
+    }
+    /// `neighbours` with the two numbers drawn ahead (`draw_neighbours`).
+    template <class Bridge, class Lending = IgnoreLending>
+    RESTIR_HOST_DEVICE SpatialNeighbours<Sample, S, Surfaces>
+    neighbours(PixelCoord pixel, ImageView<const Reservoir<Sample>> input, const Bridge& bridge,
+               NeighbourDraw draw, const Lending& lending = {}) const {
+        return find_spatial_neighbours<Sample, S>(pixel, surface_at(surfaces, pixel), input,
+                                                  surfaces, params.spatial, offset_table(),
+                                                  bridge.material_test, draw, lending);
     }
     /// A spatial pass's combination at `pixel` (which must `combines_at`) of its reservoir in
     /// `input` with `inputs` (the set `neighbours` found, with the same generator).

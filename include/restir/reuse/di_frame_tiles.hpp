@@ -67,6 +67,11 @@ struct PixelTile {
     constexpr std::uint32_t pixel_count() const noexcept {
         return width() * static_cast<std::uint32_t>(upper.y - lower.y);
     }
+    /// The k-th pixel in rows (0 <= k < pixel_count()).
+    constexpr PixelCoord pixel(std::uint32_t k) const noexcept {
+        return {lower.x + static_cast<std::int32_t>(k % width()),
+                lower.y + static_cast<std::int32_t>(k / width())};
+    }
     /// Calls `body(pixel, k)` for every pixel in rows, k counting from 0.
     template <class Body>
     constexpr void for_each_pixel(Body&& body) const {
@@ -282,14 +287,33 @@ void run_di_step(const DiFrame<Sample, S, Reproject, History, Surfaces>& frame, 
             bridge, frame.spatial_reuse_params()};
         using Rng = decltype(rng_for(PixelCoord{}, 0u));
         Rng rngs[max_tile_pixels];
+        NeighbourDraw draws[max_tile_pixels];
+        bool combines[max_tile_pixels];
         detail::GatheredInputs<Sample, S> gathered[max_tile_pixels];
+        // Every pixel's neighbours drawn first, so that the search can ask for the neighbours
+        // of the pixel two ahead of the one it tests (their first reads are the pass's cache
+        // misses; one pixel ahead hid fewer of them, docs/performance.md).
+        constexpr std::uint32_t ahead = 2u;
         tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t k) {
             rngs[k] = rng_for(pixel, RngStream::spatial + step.pass);
+            combines[k] = frame.combines_at(pixel);
+            if (combines[k])
+                draws[k] = draw_neighbours(rngs[k]);
+        });
+        // Not a lambda: GCC deletes calls of functions whose only effects are prefetches.
+        for (std::uint32_t k = 0; k < ahead && k < tile.pixel_count(); ++k)
+            if (combines[k])
+                prefetch_spatial_neighbours(tile.pixel(k), input, surfaces, frame.params.spatial,
+                                            frame.offset_table(), draws[k]);
+        tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t k) {
+            if (const std::uint32_t next = k + ahead; next < tile.pixel_count() && combines[next])
+                prefetch_spatial_neighbours(tile.pixel(next), input, surfaces, frame.params.spatial,
+                                            frame.offset_table(), draws[next]);
             gathered[k].count = 0u;
-            if (!frame.combines_at(pixel))
+            if (!combines[k])
                 return;
             // The lending neighbours gathered as they are found, in the streamed set's order.
-            frame.neighbours(pixel, input, bridge, rngs[k],
+            frame.neighbours(pixel, input, bridge, draws[k],
                              [&](PixelCoord p) { gathered[k].add(&input[p], &surfaces[p]); });
             if (reuse.asks && input[pixel].has_sample())
                 reuse.ask(k, input[pixel], gathered[k]);

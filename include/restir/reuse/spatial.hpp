@@ -114,6 +114,51 @@ RESTIR_HOST_DEVICE inline DiskOffset neighbour_rotation(float u) noexcept {
     return {cos_value, sin_value};
 }
 
+/// What a spatial pass draws for one pixel before it looks at any neighbour: the start in the
+/// offset table and the rotation (`spatial_neighbour`'s `start` and `rotation`).
+struct NeighbourDraw {
+    std::uint32_t start = 0u;
+    DiskOffset rotation{1.0f, 0.0f};
+};
+
+/// The two uniform numbers of a pixel's spatial pass, in their order: the start
+/// (`uniform_index`) and the rotation (`neighbour_rotation`). `find_spatial_neighbours` takes
+/// them from its generator itself; draw them ahead to know a pixel's neighbours before the search
+/// (to fetch their data ahead, as the tiled recipe does).
+template <UniformRng Rng>
+RESTIR_HOST_DEVICE NeighbourDraw draw_neighbours(Rng& rng) {
+    NeighbourDraw draw;
+    draw.start = uniform_index(next_float(rng), neighbour_offset_count);
+    draw.rotation = neighbour_rotation(next_float(rng));
+    return draw;
+}
+
+/// Asks for the reservoirs and surfaces (an `ImageView` of them) of the k neighbours of
+/// `centre` that `draw` gives, ahead of the search (`find_spatial_neighbours`), whose first read
+/// of each is a cache miss in a large image. Host code; nothing on a GPU.
+template <class Sample, class S>
+RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE void
+prefetch_spatial_neighbours(PixelCoord centre, ImageView<const Reservoir<Sample>> reservoirs,
+                            ImageView<const S> surfaces, const SpatialParams& params,
+                            const NeighbourOffsets& offsets, NeighbourDraw draw) {
+#if !defined(__CUDA_ARCH__)
+    const std::uint32_t count = min_of(params.neighbour_count, max_reuse_inputs - 1u);
+    for (std::uint32_t i = 0; i < count; ++i) {
+        const PixelCoord p =
+            spatial_neighbour(centre, draw.start, i, params.radius, offsets, draw.rotation);
+        if (reservoirs.contains(p) && surfaces.contains(p)) {
+            RESTIR_PREFETCH(&reservoirs[p]);
+            // A surface may straddle two cache lines.
+            RESTIR_PREFETCH(&surfaces[p]);
+            RESTIR_PREFETCH(reinterpret_cast<const char*>(&surfaces[p] + 1) - 1);
+        }
+    }
+#else
+    static_cast<void>(centre), static_cast<void>(reservoirs), static_cast<void>(surfaces);
+    static_cast<void>(params), static_cast<void>(offsets), static_cast<void>(draw);
+#endif
+}
+
 /// The neighbours of a pixel that a spatial pass reuses, as a `ReuseInputs` set for the bias
 /// corrections: neighbour i of the pass (`spatial_neighbour`) lends its reservoir unless it is
 /// the pixel itself, outside the image, a dissimilar surface or non-finite (skipped, not
@@ -169,28 +214,29 @@ struct IgnoreLending {
 };
 
 /// The neighbours of `pixel` that a spatial pass with `params` reuses: k offsets taken
-/// consecutively from `offsets` from a random start, rotated by a random angle, scaled by the
-/// radius and rounded, each tested once (`lends_reservoir`). Two uniform numbers. `centre` is
-/// the pixel whose neighbourhood is searched (the receiver, or its reprojection into the
-/// previous frame); `surface` the receiver's; `surfaces` an `ImageView` or a `SurfaceDecoder`.
-/// `lending(p)` is called for each neighbour that lends, in order (host code gathers them there
-/// once, where visiting the streamed set again would recompute each neighbour).
-template <class Sample, Surface S, class Surfaces, class MaterialTest, UniformRng Rng,
+/// consecutively from `offsets` from the drawn start, rotated by the drawn angle (`draw`, from
+/// `draw_neighbours`), scaled by the radius and rounded, each tested once (`lends_reservoir`).
+/// `centre` is the pixel whose neighbourhood is searched (the receiver, or its reprojection into
+/// the previous frame); `surface` the receiver's; `surfaces` an `ImageView` or a
+/// `SurfaceDecoder`. `lending(p)` is called for each neighbour that lends, in order (host code
+/// gathers them there once, where visiting the streamed set again would recompute each
+/// neighbour).
+template <class Sample, Surface S, class Surfaces, class MaterialTest,
           class Lending = IgnoreLending>
 requires SurfaceSource<Surfaces, S> RESTIR_HOST_DEVICE SpatialNeighbours<Sample, S, Surfaces>
 find_spatial_neighbours(PixelCoord centre, const S& surface,
                         ImageView<const Reservoir<Sample>> reservoirs, const Surfaces& surfaces,
                         const SpatialParams& params, const NeighbourOffsets& offsets,
-                        const MaterialTest& material_test, Rng& rng, const Lending& lending = {}) {
+                        const MaterialTest& material_test, NeighbourDraw draw,
+                        const Lending& lending = {}) {
     using Set = SpatialNeighbours<Sample, S, Surfaces>;
     Set set;
     // Locals while searching: the set is the caller's memory.
-    const std::uint32_t start = uniform_index(next_float(rng), neighbour_offset_count);
-    const DiskOffset rotation = neighbour_rotation(next_float(rng));
     const std::uint32_t count = min_of(params.neighbour_count, max_reuse_inputs - 1u);
     std::uint32_t lends = 0u;
     for (std::uint32_t i = 0; i < count; ++i) {
-        const PixelCoord p = spatial_neighbour(centre, start, i, params.radius, offsets, rotation);
+        const PixelCoord p =
+            spatial_neighbour(centre, draw.start, i, params.radius, offsets, draw.rotation);
         if ((p.x == centre.x && p.y == centre.y) ||
             !lends_reservoir(p, surface, reservoirs, surfaces, params.similarity, material_test))
             continue;
@@ -198,8 +244,8 @@ find_spatial_neighbours(PixelCoord centre, const S& surface,
         lending(p);
     }
     set.centre = centre;
-    set.start = start;
-    set.rotation = rotation;
+    set.start = draw.start;
+    set.rotation = draw.rotation;
     set.radius = params.radius;
     set.offsets = &offsets;
     set.reservoirs = reservoirs;
@@ -207,6 +253,19 @@ find_spatial_neighbours(PixelCoord centre, const S& surface,
     set.count = count;
     set.lends = lends;
     return set;
+}
+
+/// `find_spatial_neighbours` with its two uniform numbers taken from `rng` (`draw_neighbours`).
+template <class Sample, Surface S, class Surfaces, class MaterialTest, UniformRng Rng,
+          class Lending = IgnoreLending>
+requires SurfaceSource<Surfaces, S> RESTIR_HOST_DEVICE SpatialNeighbours<Sample, S, Surfaces>
+find_spatial_neighbours(PixelCoord centre, const S& surface,
+                        ImageView<const Reservoir<Sample>> reservoirs, const Surfaces& surfaces,
+                        const SpatialParams& params, const NeighbourOffsets& offsets,
+                        const MaterialTest& material_test, Rng& rng, const Lending& lending = {}) {
+    return find_spatial_neighbours<Sample, S>(centre, surface, reservoirs, surfaces, params,
+                                              offsets, material_test, draw_neighbours(rng),
+                                              lending);
 }
 
 /// Spatial resampling of one pixel: its own reservoir from `reservoirs` combined with its
