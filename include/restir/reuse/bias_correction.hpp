@@ -36,11 +36,12 @@ RESTIR_HOST_DEVICE Reservoir<Sample> merge_inputs(const Reservoir<Sample>& canon
                                                   bool only_own_support, Rng& rng) {
     Reservoir<Sample> result;
     result.merge(canonical, canonical.target_value, next_float(rng));
+    const LentTargets<Sample, S, Terms, Inputs> targets(inputs, terms, !only_own_support);
     for_each_input<Sample, S>(
-        inputs, [&](std::uint32_t, const Reservoir<Sample>& r, const S& there) {
+        inputs, [&](std::uint32_t j, const Reservoir<Sample>& r, const S& there) {
             const bool lends = r.has_sample() && (!only_own_support || terms.own(r, there) > 0.0f);
             typename Terms::Lent lent(r);
-            const float here = lends ? terms.lend(lent, r, there) : 0.0f;
+            const float here = lends ? targets.lend(j, lent, r, there) : 0.0f;
             result.merge(lent.of(r), here, next_float(rng));
         });
     return result;
@@ -181,7 +182,8 @@ combine_pairwise(const Reservoir<Sample>& canonical, const S& surface, const Inp
     }
     const float canonical_share = canonical_count / static_cast<float>(k);
     float canonical_mis = 0.0f;
-    detail::for_each_input<Sample, S>(inputs, [&](std::uint32_t, const Reservoir<Sample>& r,
+    const detail::LentTargets<Sample, S, decltype(terms), Inputs> targets(inputs, terms);
+    detail::for_each_input<Sample, S>(inputs, [&](std::uint32_t j, const Reservoir<Sample>& r,
                                                   const S& there) {
         const float count = static_cast<float>(r.candidate_count);
         const float pair_weight = safe_divide(count + canonical_share, total_count);
@@ -189,7 +191,7 @@ combine_pairwise(const Reservoir<Sample>& canonical, const S& surface, const Inp
         float here = 0.0f;
         float mis_weight = 0.0f;
         if (r.has_sample()) {
-            here = terms.lend(lent, r, there);
+            here = targets.lend(j, lent, r, there);
             // Under a shift, the canonical technique's density carried to input i's domain is
             // p-hat_q(T(y_i)) |dT/dy_i| (Lin et al. 2022, Eq. 5.10).
             const float own = count * terms.own(r, there);

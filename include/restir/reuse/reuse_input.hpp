@@ -96,6 +96,7 @@ namespace detail {
 /// One input (temporal reuse), its M capped at `candidate_cap`.
 template <class Sample, class SurfaceT>
 struct SingleReuseInput {
+    static constexpr std::uint32_t capacity = 1u;
     ReuseInput<Sample, SurfaceT> input{};
     std::uint32_t candidate_cap = no_candidate_cap;
     RESTIR_HOST_DEVICE constexpr std::uint32_t size() const noexcept { return 1u; }

@@ -119,6 +119,16 @@ inline constexpr bool streamed_inputs = requires {
     requires Inputs::streamed;
 };
 
+/// The most inputs a set holds: its `capacity` where it declares one (a single input: 1),
+/// else max_reuse_inputs - 1.
+template <class Inputs>
+inline constexpr std::uint32_t input_capacity = [] {
+    if constexpr (requires { Inputs::capacity; })
+        return std::uint32_t{Inputs::capacity};
+    else
+        return max_reuse_inputs - 1u;
+}();
+
 /// The cap a set puts on the M of the reservoirs it lends (`no_candidate_cap` by default).
 template <class Inputs>
 RESTIR_HOST_DEVICE constexpr std::uint32_t candidate_cap_of(const Inputs& inputs) {
@@ -154,13 +164,60 @@ RESTIR_HOST_DEVICE std::uint32_t for_each_input(const Inputs& inputs, Visit&& vi
     return taken;
 }
 
+/// p-hat_q of the samples of the inputs that take part, for the merges of the bias corrections
+/// (`ReuseTerms::lend`). Host code without a shift evaluates them all in one loop ahead of the
+/// merges: the evaluations are independent, and between the merges' random choices of sample
+/// (branches the CPU mispredicts) they did not overlap (docs/performance.md). Device code and
+/// shifted samples evaluate each at its merge, so that a GPU thread keeps no array.
+template <class Sample, class S, class Terms, class Inputs>
+struct LentTargets {
+#if defined(__CUDA_ARCH__)
+    static constexpr bool can_evaluate_ahead = false;
+#else
+    // A single input (the temporal pass's) has nothing to overlap with.
+    static constexpr bool can_evaluate_ahead = !Terms::shifts && input_capacity<Inputs> > 1u;
+    float values[max_reuse_inputs - 1u];
+#endif
+    const Terms& terms;
+    bool ahead = false; ///< Whether `values` holds them.
+
+    /// `evaluate_ahead` false where only some inputs lend (1/Z asks each for its own sample's
+    /// visibility first): each is then evaluated at its merge.
+    RESTIR_HOST_DEVICE LentTargets(const Inputs& inputs, const Terms& t, bool evaluate_ahead = true)
+        : terms(t), ahead(can_evaluate_ahead && evaluate_ahead) {
+#if !defined(__CUDA_ARCH__)
+        if constexpr (can_evaluate_ahead)
+            if (ahead)
+                for_each_input<Sample, S>(
+                    inputs, [&](std::uint32_t j, const Reservoir<Sample>& r, const S&) {
+                        values[j] = r.has_sample() ? terms.here(r.sample) : 0.0f;
+                    });
+#else
+        static_cast<void>(inputs);
+#endif
+    }
+
+    /// `terms.lend(lent, r, there)` of input j (its reservoir `r`, which holds a sample).
+    RESTIR_HOST_DEVICE float lend(std::uint32_t j, typename Terms::Lent& lent,
+                                  const Reservoir<Sample>& r, const S& there) const {
+#if !defined(__CUDA_ARCH__)
+        if constexpr (can_evaluate_ahead)
+            if (ahead)
+                return values[j];
+#endif
+        static_cast<void>(j);
+        return terms.lend(lent, r, there);
+    }
+};
+
 /// The inputs that take part, gathered once into an array: what host code visits, so that the
 /// checks and lookups of a streamed set are not repeated at every pass over the inputs; device
 /// code visits the set itself and keeps no array (registers, not local memory).
-template <class Input>
+template <class Input, std::uint32_t Capacity = max_reuse_inputs - 1u>
 struct PackedInputs {
     static constexpr bool packed = true;
-    Input items[max_reuse_inputs - 1u];
+    static constexpr std::uint32_t capacity = Capacity;
+    Input items[Capacity];
     std::uint32_t count = 0u;
     std::uint32_t candidate_cap = no_candidate_cap;
     RESTIR_HOST_DEVICE constexpr std::uint32_t size() const noexcept { return count; }
@@ -170,10 +227,10 @@ struct PackedInputs {
 template <class Sample, class S, class Inputs>
 RESTIR_HOST_DEVICE auto pack_inputs(const Inputs& inputs) {
     using Input = decltype(lent_input<Sample, S>(inputs[0u]));
-    PackedInputs<Input> packed;
+    PackedInputs<Input, input_capacity<Inputs>> packed;
     packed.candidate_cap = candidate_cap_of(inputs);
     const std::uint32_t slots = inputs.size();
-    for (std::uint32_t i = 0; i < slots && packed.count + 1u < max_reuse_inputs; ++i) {
+    for (std::uint32_t i = 0; i < slots && packed.count < input_capacity<Inputs>; ++i) {
         const Input input = lent_input<Sample, S>(inputs[i]);
         if (input.reservoir != nullptr && input.reservoir->is_well_formed())
             packed.items[packed.count++] = input;
