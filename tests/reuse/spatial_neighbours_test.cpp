@@ -131,12 +131,11 @@ TEST(SpatialReuse, RotatedNeighboursAreIsotropic) {
     constexpr float radius = 10.0f;
     double sum_x = 0, sum_y = 0, sum_xx = 0, sum_yy = 0, sum_d = 0, sum_dd = 0;
     for (int t = 0; t < trials; ++t) {
-        const std::uint32_t start =
-            restir::uniform_index(restir::next_float(rng), restir::neighbour_offset_count);
-        const restir::DiskOffset rotation = restir::neighbour_rotation(restir::next_float(rng));
+        const restir::NeighbourDraw draw = restir::draw_neighbours(rng);
+        const restir::DiskOffset rotation = draw.rotation;
         EXPECT_NEAR(rotation.x * rotation.x + rotation.y * rotation.y, 1.0f, 1e-5f);
         const PixelCoord n =
-            restir::spatial_neighbour({0, 0}, start, 0u, radius, offsets, rotation);
+            restir::spatial_neighbour({0, 0}, draw.start, 0u, radius, offsets, rotation);
         const double x = n.x, y = n.y;
         EXPECT_LE(std::hypot(x, y), static_cast<double>(radius) + 1.0);
         sum_x += x;
@@ -168,6 +167,37 @@ TEST(SpatialReuse, RotatedNeighboursAreIsotropic) {
     }
     EXPECT_LE(fixed.size(), restir::neighbour_offset_count);
     EXPECT_GT(rotated.size(), 3u * fixed.size()); // a disk of radius 10 holds ~300 pixels
+}
+
+// Asking for a drawn neighbourhood's data ahead touches only pixels inside the image, at every
+// pixel and for any radius (the views assert it in debug builds, which the sanitizer build is).
+TEST(SpatialReuse, PrefetchingNeighboursStaysInsideTheImage) {
+    constexpr std::uint32_t width = 7u, height = 5u;
+    const std::vector<restir::Reservoir<std::uint32_t>> reservoirs(width * height);
+    const std::vector<float> surfaces(width * height);
+    const restir::ImageView<const restir::Reservoir<std::uint32_t>> reservoir_view{
+        reservoirs.data(), width, height};
+    const restir::ImageView<const float> surface_view{surfaces.data(), width, height};
+    const restir::NeighbourOffsets offsets = restir::make_neighbour_offsets();
+    restir::Pcg32 rng = restir::make_pixel_rng(3u, 0u, 0u);
+    std::uint32_t outside = 0u;
+    for (const float radius : {0.0f, 2.0f, 30.0f, 1e9f, std::numeric_limits<float>::quiet_NaN()}) {
+        restir::SpatialParams params = restir::default_spatial_params();
+        params.radius = radius;
+        params.neighbour_count = 15u;
+        for (std::int32_t y = 0; y < static_cast<std::int32_t>(height); ++y)
+            for (std::int32_t x = 0; x < static_cast<std::int32_t>(width); ++x) {
+                const restir::NeighbourDraw draw = restir::draw_neighbours(rng);
+                restir::prefetch_spatial_neighbours({x, y}, reservoir_view, surface_view, params,
+                                                    offsets, draw);
+                for (std::uint32_t i = 0; i < params.neighbour_count; ++i)
+                    outside += reservoir_view.contains(restir::spatial_neighbour(
+                                   {x, y}, draw.start, i, radius, offsets, draw.rotation))
+                                   ? 0u
+                                   : 1u;
+            }
+    }
+    EXPECT_GT(outside, 1000u) << "most neighbours at the larger radii should fall outside";
 }
 
 } // namespace
