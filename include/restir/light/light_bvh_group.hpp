@@ -56,14 +56,16 @@ RESTIR_HOST_DEVICE inline float sine_of(float cosine) noexcept {
 }
 
 // The importance bound of Conty Estevez and Kulla 2018 (Eq. 3) from a node's fields: the one
-// formula of `light_importance` and of the lanes of a `LightBvhGroup`. Selects rather than
-// branches throughout (the outcomes vary from node to node, and the lanes vectorise), as
-// `select_float`: with `?:` whether the lanes vectorise depends on the caller.
-RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE float importance_bound(glm::vec3 centre, float node_radius,
-                                                              glm::vec3 axis, float cos_theta_o,
-                                                              float sin_theta_o, float cos_theta_e,
-                                                              float power,
-                                                              const ShadingPoint& at) noexcept {
+// formula of `light_importance` and of the lanes of a `LightBvhGroup`. The cone axis need not
+// be a unit vector: `axis_length` is its length and `inverse_axis_length` one over it (a lane's
+// octahedral axis comes unnormalised, so that its normalisation, a square root and a division,
+// runs beside the projections rather than before them). Selects rather than branches throughout
+// (the outcomes vary from node to node, and the lanes vectorise), as `select_float`: with `?:`
+// whether the lanes vectorise depends on the caller.
+RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE float
+importance_bound(glm::vec3 centre, float node_radius, glm::vec3 axis, float axis_length,
+                 float inverse_axis_length, float cos_theta_o, float sin_theta_o, float cos_theta_e,
+                 float power, const ShadingPoint& at) noexcept {
     // For a region (at.radius > 0) the node's sphere grows by the region's radius: every
     // direction from a point of the region to a point of the node lies within theta_b of the
     // direction between their centres.
@@ -83,14 +85,17 @@ RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE float importance_bound(glm::vec3 centre, 
     // theta_b: the half-angle of the node's sphere seen from the point.
     const float sin_b = radius;
     const float cos_b = std::sqrt(max_of(distance_squared - radius_squared, 0.0f));
+    // theta_w's cosine and sine times d and the axis's length l: the projection on the axis as
+    // it is, and sqrt(l^2 d^2 - projection^2).
     const float cos_w = axis_projection;
-    const float sin_w =
-        std::sqrt(max_of(distance_squared - axis_projection * axis_projection, 0.0f));
-    // theta_x = max(0, theta_w - theta_o): the cone's half-angle taken off.
-    const bool within_cone = cos_w > cos_theta_o * distance;
-    const float cos_x =
-        select_float(within_cone, distance, cos_w * cos_theta_o + sin_w * sin_theta_o);
-    const float sin_x = select_float(within_cone, 0.0f, sin_w * cos_theta_o - cos_w * sin_theta_o);
+    const float sin_w = std::sqrt(max_of(
+        axis_length * axis_length * distance_squared - axis_projection * axis_projection, 0.0f));
+    // theta_x = max(0, theta_w - theta_o): the cone's half-angle taken off (times d again).
+    const bool within_cone = cos_w > cos_theta_o * distance * axis_length;
+    const float cos_x = select_float(
+        within_cone, distance, (cos_w * cos_theta_o + sin_w * sin_theta_o) * inverse_axis_length);
+    const float sin_x = select_float(
+        within_cone, 0.0f, (sin_w * cos_theta_o - cos_w * sin_theta_o) * inverse_axis_length);
     // theta' = max(0, theta_x - theta_b), its cosine times d^2.
     const float cos_emitted =
         select_float(cos_x > cos_b, distance_squared, cos_x * cos_b + sin_x * sin_b);
@@ -123,8 +128,9 @@ RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE float importance_bound(glm::vec3 centre, 
 /// point of a region `at`).
 RESTIR_HOST_DEVICE inline float light_importance(const LightBvhNode& node,
                                                  const ShadingPoint& at) noexcept {
-    return detail::importance_bound(node.centre, node.radius, node.axis, node.cos_theta_o,
-                                    node.sin_theta_o, node.cos_theta_e, node.power, at);
+    return detail::importance_bound(node.centre, node.radius, node.axis, 1.0f, 1.0f,
+                                    node.cos_theta_o, node.sin_theta_o, node.cos_theta_e,
+                                    node.power, at);
 }
 
 /// A box: what `LightBvhGroup::box` returns.
@@ -175,19 +181,28 @@ RESTIR_HOST_DEVICE inline float grid_step(float lower, float upper) noexcept {
     return max_of(step, 0x1p-126f); // FLT_MIN: no subnormal steps
 }
 
-// A unit axis from its octahedral codes (each 0 to 254, 127 the middle): the octahedron's point
-// (x, y, 1 - |x| - |y|), its lower half folded out, normalised (Cigolle et al. 2014). The `_of`
-// forms take the codes as floats (exact), which a host loop over a group's lanes vectorises.
-RESTIR_HOST_DEVICE inline glm::vec3 octahedral_axis_of(float u, float v) noexcept {
+// An axis from its octahedral codes (each 0 to 254, 127 the middle): the octahedron's point
+// (x, y, 1 - |x| - |y|), its lower half folded out (Cigolle et al. 2014), as it is, with its
+// length and one over it; normalised, the unit axis. The `_of` forms take the codes as floats
+// (exact), which a host loop over a group's lanes vectorises.
+struct OctahedralAxis {
+    glm::vec3 direction; // not normalised
+    float length;
+    float inverse_length;
+};
+RESTIR_HOST_DEVICE inline OctahedralAxis octahedral_direction_of(float u, float v) noexcept {
     const float x = (u - 127.0f) * (1.0f / 127.0f);
     const float y = (v - 127.0f) * (1.0f / 127.0f);
     const float z = 1.0f - std::abs(x) - std::abs(y);
     const float fold = max_of(-z, 0.0f);
     const float folded_x = select_float(x >= 0.0f, x - fold, x + fold);
     const float folded_y = select_float(y >= 0.0f, y - fold, y + fold);
-    const float inverse_length =
-        1.0f / std::sqrt(folded_x * folded_x + folded_y * folded_y + z * z);
-    return {folded_x * inverse_length, folded_y * inverse_length, z * inverse_length};
+    const float length = std::sqrt(folded_x * folded_x + folded_y * folded_y + z * z);
+    return {glm::vec3(folded_x, folded_y, z), length, 1.0f / length};
+}
+RESTIR_HOST_DEVICE inline glm::vec3 octahedral_axis_of(float u, float v) noexcept {
+    const OctahedralAxis axis = octahedral_direction_of(u, v);
+    return axis.direction * axis.inverse_length;
 }
 RESTIR_HOST_DEVICE inline glm::vec3 octahedral_axis(std::uint32_t u, std::uint32_t v) noexcept {
     return octahedral_axis_of(static_cast<float>(u), static_cast<float>(v));
@@ -305,9 +320,24 @@ struct alignas(64) LightBvhGroup {
             total += out[c];
         return total;
     }
-    /// The importance bounds alone (what `importance` writes to `out`).
-    RESTIR_HOST_DEVICE void bounds(const ShadingPoint& at, const LightBvhGrid& grid,
-                                   float (&out)[lanes]) const;
+    /// The importance bounds alone (what `importance` writes to `out`). Inlined by force: a
+    /// descent waits on them at every level, and a call passes them through memory.
+    RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE void
+    bounds(const ShadingPoint& at, const LightBvhGrid& grid, float (&out)[lanes]) const;
+    /// Lane `lane`'s bound alone, as device code evaluates each lane of `bounds` (host code
+    /// computes all eight side by side, the same numbers).
+    RESTIR_HOST_DEVICE float bound(std::uint32_t lane, const LightBvhGrid& grid,
+                                   const ShadingPoint& at) const {
+        glm::vec3 centre;
+        float radius;
+        decode(lane, grid, centre, radius);
+        const detail::OctahedralAxis axis = detail::octahedral_direction_of(
+            static_cast<float>(axis_u[lane]), static_cast<float>(axis_v[lane]));
+        return detail::importance_bound(
+            centre, radius, axis.direction, axis.length, axis.inverse_length,
+            detail::cone_cos(cone[lane]), detail::cone_sin(cone[lane]),
+            detail::emission_cos(emission[lane]), detail::bfloat16_value(power[lane]), at);
+    }
 
 private:
     // The centre and half diagonal of lane `lane`'s box, from the codes: (lower + upper) / 2
@@ -333,7 +363,7 @@ private:
 static_assert(std::is_trivially_copyable_v<LightBvhGroup>);
 static_assert(sizeof(LightBvhGroup) == 16u * LightBvhGroup::lanes);
 
-RESTIR_HOST_DEVICE inline void
+RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE void
 LightBvhGroup::bounds(const ShadingPoint& at, const LightBvhGrid& grid, float (&out)[lanes]) const {
     // The fields decoded and spelled out rather than light_importance(node(c, grid), at): that
     // spelling vectorised less reliably and made batch draws slower (docs/performance.md,
@@ -341,15 +371,8 @@ LightBvhGroup::bounds(const ShadingPoint& at, const LightBvhGrid& grid, float (&
     // after any change here.
 #if defined(__CUDA_ARCH__)
     RESTIR_UNROLL
-    for (std::uint32_t c = 0u; c < lanes; ++c) {
-        glm::vec3 centre;
-        float radius;
-        decode(c, grid, centre, radius);
-        out[c] = detail::importance_bound(
-            centre, radius, detail::octahedral_axis(axis_u[c], axis_v[c]),
-            detail::cone_cos(cone[c]), detail::cone_sin(cone[c]), detail::emission_cos(emission[c]),
-            detail::bfloat16_value(power[c]), at);
-    }
+    for (std::uint32_t c = 0u; c < lanes; ++c)
+        out[c] = bound(c, grid, at);
 #else
     // On a CPU the codes are widened to floats first (exactly), and the bounds computed from
     // floats alone: GCC vectorises a loop that reads bytes in as many lanes as bytes fill a
@@ -406,8 +429,9 @@ LightBvhGroup::bounds(const ShadingPoint& at, const LightBvhGrid& grid, float (&
                                  (high[1][c] - low[1][c]) * g.step.y,
                                  (high[2][c] - low[2][c]) * g.step.z);
         const float radius = 0.5f * std::sqrt(glm::dot(diagonal, diagonal));
+        const detail::OctahedralAxis axis = detail::octahedral_direction_of(u[c], v[c]);
         out[c] = detail::importance_bound(
-            centre, radius, detail::octahedral_axis_of(u[c], v[c]),
+            centre, radius, axis.direction, axis.length, axis.inverse_length,
             detail::cone_cos_of(cone_code[c]), detail::cone_sin_of(cone_code[c]),
             detail::emission_cos_of(emission_code[c]), power_value[c], p);
     }
