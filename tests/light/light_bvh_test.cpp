@@ -465,8 +465,8 @@ TEST(LightBvh, PointsNoLightReachesDrawNothing) {
 // evaluation could apply differently): at points, at regions, without a normal, inside the
 // children's spheres, and at a child's centre. The lanes weigh their cone axes unnormalised; the
 // bound differs from `light_importance` of the child as `node` reads it back (a unit axis) by
-// rounding alone, at most 1e-5 of power / d^2 (the largest the bound can be; about a hundred
-// float ulps, where the worst seen is three).
+// rounding alone, at most 1e-5 of power / d^2 (the largest the bound can be; some 170 float
+// ulps of it, where the worst seen is six).
 TEST(LightBvh, GroupBoundsEqualEachChildsBound) {
     const std::vector<TestLight> lights = test_lights(5000u, 51u);
     const restir::LightBvh bvh(bounds_of(lights));
