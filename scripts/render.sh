@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds the Embree example renderer (Release) and renders the default scene: the Cornell box
-# with ReSTIR and VPL global illumination, written to out/cornell.png. Extra arguments go to
-# restir-render (see build/render/examples/pathtracer/restir-render --help).
+# with ReSTIR and VPL global illumination, written to out/cornell.png, or to each --out given.
+# Extra arguments go to restir-render (see build/render/examples/pathtracer/restir-render --help).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
@@ -11,16 +11,17 @@ bash scripts/install-deps.sh cmake make g++ libglm-dev libstb-dev libembree-dev 
 cmake -S . -B build/render -DCMAKE_BUILD_TYPE=Release -DRESTIR_BUILD_TESTS=OFF \
   -DRESTIR_BUILD_BENCHMARKS=OFF >/dev/null
 cmake --build build/render --target restir-render -j "$(nproc)"
-build/render/examples/pathtracer/restir-render --scene cornell --method restir --gi vpl \
-  --frames 16 --out out/cornell.png "$@"
-# The image written: the last --out given, out/cornell.png when none is.
-out=out/cornell.png
-while [ $# -gt 0 ]; do
-  case $1 in
-  --out) [ $# -gt 1 ] && out=$2 ;;
-  --out=*) out=${1#--out=} ;;
-  esac
-  shift
+# The image written: the last --out given, out/cornell.png when none is (restir-render writes
+# every --out it gets, so the default is passed only when the arguments name none).
+out= previous=
+for arg in "$@"; do
+  case $previous in --out) out=$arg ;; esac
+  case $arg in --out=*) out=${arg#--out=} ;; esac
+  previous=$arg
 done
+default_out=()
+[ -n "$out" ] || { out=out/cornell.png; default_out=(--out "$out"); }
+build/render/examples/pathtracer/restir-render --scene cornell --method restir --gi vpl \
+  --frames 16 "${default_out[@]}" "$@"
 case $out in /*) ;; *) out=$PWD/$out ;; esac
 echo "image: $out"
