@@ -214,8 +214,8 @@ void add_light_sampling_options(CLI::App& app, RenderSettings& settings, ReuseFl
     app.add_option("--neighbours", frame.spatial.neighbour_count, "Spatial reuse neighbours (k)")
         ->check(CLI::Range(0u, restir::max_reuse_inputs - 1u));
     app.add_option("--radius", frame.spatial.radius,
-                   "Spatial reuse radius in pixels (0: the paper's 30 px at 1080 rows, scaled "
-                   "to the image height, at least 3)")
+                   "Spatial reuse radius in pixels (0: 20 px at 1080 rows, two thirds of the "
+                   "paper's 30, scaled to the image height, at least 3)")
         ->check(finite_number & CLI::Range(0.0f, 1000.0f));
     app.add_option("--spatial-passes", frame.spatial_passes, "Spatial reuse passes")
         ->check(CLI::Range(0u, 16u));

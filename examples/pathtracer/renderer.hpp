@@ -106,9 +106,9 @@ struct RenderSettings {
     bool environment_nee = true;
 
     /// The library's frame recipe with restir-render's defaults: 5 neighbours, a spatial
-    /// radius of 0 (the renderer makes it 30 px per 1080 rows, the paper's 30 at 1080p, at
-    /// least 3), a history cap of 4 with permutation sampling (for the accumulated image: the
-    /// paper's cap of 20 without permutation made consecutive frames so alike that averaging
+    /// radius of 0 (the renderer makes it 20 px per 1080 rows, two thirds of the paper's 30 at
+    /// 1080p, at least 3), a history cap of 4 with permutation sampling (for the accumulated image:
+    /// the paper's cap of 20 without permutation made consecutive frames so alike that averaging
     /// them gained little, docs/noise-and-bias.md), and the boiling filter off with a
     /// threshold of 0 (it removes energy, so it is biased). The renderer runs it per 8 x 8
     /// tile, each stage's rays traced as Embree packets.
@@ -138,7 +138,7 @@ struct FrameTimings {
 };
 
 /// The ReSTIR frame of `settings` (ReSTIR DI's and ReSTIR GI's) at its image's size: a spatial
-/// radius of 0 made 30 px per 1080 rows (the paper's 30 at 1080p), at least 3.
+/// radius of 0 made 20 px per 1080 rows (two thirds of the paper's 30 at 1080p), at least 3.
 restir::DiFrameParams frame_params(const RenderSettings& settings);
 
 /// Peak memory a render with `settings` needs, in bytes, about: per pixel 384 bytes for ReSTIR
