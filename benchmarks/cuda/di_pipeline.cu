@@ -151,7 +151,7 @@ Context base_context(const Options& o, bool cornell, restir::Falloff falloff, fl
     base.view = cornell ? box::cornell_view : box::many_lights_view;
     base.width = o.width;
     base.height = o.height;
-    base.params = box::recipe_params(o.height, o.mis_rays);
+    base.params = box::recipe_params(o.height, o.radius, o.mis_rays);
     base.falloff = falloff;
     base.ray_offset = 1e-4f * extent;
     base.tiles.tile_count = box::tile_count;
@@ -453,6 +453,9 @@ int run_benchmark(const Options& o) {
         if (!h.bvh_source)
             std::printf("light tiles: %u of %u entries, one per %ux%u pixels\n", box::tile_count,
                         box::tile_size, h.tile_group, h.tile_group);
+        if (o.reuse)
+            std::printf("spatial reuse: %u neighbours in %.1f px (%g px per 1080 rows)\n",
+                        h.params.spatial.neighbour_count, h.params.spatial.radius, o.radius);
         const Timings t = run_frames(o, h, d, gpu, threads, reference, pixels);
         all_agree = print_table(t, h, packed, gpu, pixels) && all_agree;
         if (!o.image.empty() && layout == layouts.back()) {

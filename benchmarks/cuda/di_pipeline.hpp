@@ -15,6 +15,7 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 
@@ -172,13 +173,14 @@ struct Context {
 };
 
 /// The recipe's settings for this benchmark: restir-render's (pairwise MIS, visibility reuse,
-/// one spatial pass in 30 px per 1080 rows), with 5 neighbours. `mis_rays` traces the MIS
-/// weights' shadow rays (`ReuseVisibility::traced`); without it the reuse passes are ray-free
-/// (`assumed`, RTXDI's default), so that only the initial and finish stages trace rays.
-inline restir::DiFrameParams recipe_params(std::uint32_t height, bool mis_rays) {
+/// one spatial pass of `radius` px per 1080 rows, at least 3; restir-render's is 20), with 5
+/// neighbours. `mis_rays` traces the MIS weights' shadow rays (`ReuseVisibility::traced`); without
+/// it the reuse passes are ray-free (`assumed`, RTXDI's default), so that only the initial and
+/// finish stages trace rays.
+inline restir::DiFrameParams recipe_params(std::uint32_t height, float radius, bool mis_rays) {
     restir::DiFrameParams p = restir::default_di_frame_params();
     p.spatial.neighbour_count = 5u;
-    p.spatial.radius = 30.0f * static_cast<float>(height) / 1080.0f;
+    p.spatial.radius = std::max(3.0f, radius * static_cast<float>(height) / 1080.0f);
     p.visibility = mis_rays ? restir::ReuseVisibility::traced : restir::ReuseVisibility::assumed;
     return p;
 }

@@ -34,6 +34,7 @@ struct Options {
     std::string image;                       // PPM of the last frame
     std::uint32_t block_x = 16, block_y = 8; // threads per CUDA block of the pixel passes
     std::uint32_t tile_group = 16u;          // pixels per side of a group that shares a light tile
+    float radius = 20.0f; // spatial radius in pixels per 1080 rows (restir-render's default)
 };
 
 [[noreturn]] inline void usage(const char* message) {
@@ -47,7 +48,9 @@ struct Options {
                  "                   [--candidates N] [--no-reuse] [--static-camera]\n"
                  "                   [--reference-frames N] [--reference-source tiles|bvh]\n"
                  "                   [--reference-candidates N] [--scene cornell|many-lights]\n"
-                 "                   [--lights N] [--tile-group N]\n");
+                 "                   [--lights N] [--tile-group N] [--radius PX]\n"
+                 "--radius: the spatial pass's radius in pixels per 1080 rows (default 20,\n"
+                 "restir-render's; the paper's is 30)\n");
     std::exit(message != nullptr ? 2 : 0);
 }
 
@@ -118,6 +121,8 @@ inline Options parse(int argc, char** argv) {
             o.reference_candidates = parse_count(value(), 1, 4096);
         else if (a == "--tile-group")
             o.tile_group = parse_count(value(), 1, 32);
+        else if (a == "--radius")
+            o.radius = static_cast<float>(parse_count(value(), 1, 1000));
         else if (a == "--no-reuse")
             o.reuse = false;
         else if (a == "--static-camera")
