@@ -14,7 +14,9 @@
 // now inside the initial and finish rows in both modes (ray-free: `ReuseVisibility::assumed`;
 // --mis-rays: `traced`, where the reuse rows also hold the MIS rays), so those two rows include
 // the analytic scene's shadow rays. The last row traces one such ray a pixel alone, after the
-// frame, to tell what they cost; it and the G-buffer row are left out of the sum.
+// frame, to tell what they cost; it and the G-buffer row are left out of the sum. With
+// --shadow-rays none the rays find no triangle (the same kernels), and the frame times the
+// library's work alone.
 //
 // This file holds the run (setup, reference, the frames of each layout, the table) and main; the
 // rest, by job: options.hpp (command line), analytic_scene.hpp (scenes, cameras),
@@ -388,9 +390,17 @@ int run_benchmark(const Options& o) {
                     threads);
     }
 
+    // --shadow-rays none: the shadow rays' scene holds no triangle, so every sample is visible
+    // and the frame is the library's work (the kernels are the same; each ray reads the count).
+    const bool shadow_rays = o.shadow_rays == "analytic";
+    const box::Scene no_occluders{};
     box::Scene* device_scene = nullptr;
-    if (gpu)
+    box::Scene* device_occluders = nullptr;
+    if (gpu) {
         device_scene = upload(std::vector<box::Scene>{scene});
+        device_occluders =
+            shadow_rays ? device_scene : upload(std::vector<box::Scene>{no_occluders});
+    }
     const std::vector<restir::Vpl> vpls =
         shoot_vpls(o, cornell, gpu, scene, device_scene, host_emitters, extent);
 
@@ -409,6 +419,7 @@ int run_benchmark(const Options& o) {
     host.allocate(pixels, entries);
     Context h = base;
     h.scene = &scene;
+    h.occluders = shadow_rays ? &scene : &no_occluders;
     h.lights = host_lights;
     h.power = table.view();
     h.bvh = bvh.view();
@@ -418,6 +429,7 @@ int run_benchmark(const Options& o) {
     Context d = base;
     if (gpu) {
         d.scene = device_scene;
+        d.occluders = device_occluders;
         box::Emitters device_emitters{upload(emitters), host_emitters.count};
         d.lights = {upload(std::vector<box::Emitters>{device_emitters}), upload(vpls),
                     host_lights.vpl_count};
@@ -453,6 +465,9 @@ int run_benchmark(const Options& o) {
         if (!h.bvh_source)
             std::printf("light tiles: %u of %u entries, one per %ux%u pixels\n", box::tile_count,
                         box::tile_size, h.tile_group, h.tile_group);
+        if (!shadow_rays)
+            std::printf("shadow rays: none (every sample visible; the frame is the library's "
+                        "work alone)\n");
         if (o.reuse)
             std::printf("spatial reuse: %u neighbours in %.1f px (%g px per 1080 rows)\n",
                         h.params.spatial.neighbour_count, h.params.spatial.radius, o.radius);

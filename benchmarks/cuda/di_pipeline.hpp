@@ -116,7 +116,8 @@ struct Context {
     restir::DiFrameParams params{};
     View view{};
     Camera camera, previous_camera;
-    const Scene* scene = nullptr;
+    const Scene* scene = nullptr;     // the G-buffer's and the photons' rays
+    const Scene* occluders = nullptr; // the shadow rays': `scene`, or an empty one
     Lights lights{};
     restir::AliasTableView power{};
     restir::Falloff falloff{};
@@ -147,7 +148,7 @@ struct Context {
     }
     RESTIR_HOST_DEVICE restir::ReuseBridge<Target, restir::LightPointVisibility<Scene>>
     bridge() const {
-        return {Target{}, {scene, ray_offset}};
+        return {Target{}, {occluders, ray_offset}};
     }
     RESTIR_HOST_DEVICE restir::DiBuffers<restir::LightPointSample> buffers() const {
         return {{out, width, height}, {scratch, width, height}};

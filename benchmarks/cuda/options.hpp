@@ -35,6 +35,7 @@ struct Options {
     std::uint32_t block_x = 16, block_y = 8; // threads per CUDA block of the pixel passes
     std::uint32_t tile_group = 16u;          // pixels per side of a group that shares a light tile
     float radius = 20.0f; // spatial radius in pixels per 1080 rows (restir-render's default)
+    std::string shadow_rays = "analytic"; // analytic | none (visible: the library's work alone)
 };
 
 [[noreturn]] inline void usage(const char* message) {
@@ -49,8 +50,11 @@ struct Options {
                  "                   [--reference-frames N] [--reference-source tiles|bvh]\n"
                  "                   [--reference-candidates N] [--scene cornell|many-lights]\n"
                  "                   [--lights N] [--tile-group N] [--radius PX]\n"
+                 "                   [--shadow-rays analytic|none]\n"
                  "--radius: the spatial pass's radius in pixels per 1080 rows (default 20,\n"
-                 "restir-render's; the paper's is 30)\n");
+                 "restir-render's; the paper's is 30)\n"
+                 "--shadow-rays none: every shadow ray finds the scene empty (each reads the\n"
+                 "triangle count, 0), so that the frame times the library's work alone\n");
     std::exit(message != nullptr ? 2 : 0);
 }
 
@@ -123,6 +127,8 @@ inline Options parse(int argc, char** argv) {
             o.tile_group = parse_count(value(), 1, 32);
         else if (a == "--radius")
             o.radius = static_cast<float>(parse_count(value(), 1, 1000));
+        else if (a == "--shadow-rays")
+            o.shadow_rays = choice(a, value(), {"analytic", "none"});
         else if (a == "--no-reuse")
             o.reuse = false;
         else if (a == "--static-camera")
