@@ -160,6 +160,8 @@ Context base_context(const Options& o, bool cornell, restir::Falloff falloff, fl
     base.tiles.tile_size = box::tile_size;
     base.candidates = o.candidates;
     base.tile_group = o.tile_group;
+    base.share_x = o.share_x;
+    base.share_y = o.share_y;
     base.bvh_source = o.source == "bvh";
     if (!o.reuse) {
         base.params.temporal_reuse = false;
@@ -229,6 +231,7 @@ struct Timings {
     std::vector<double> cpu_ms[box::pass_count], gpu_ms[box::pass_count], gpu_frame_ms;
     bool ran[box::pass_count] = {};
     std::vector<double> frame_errors;
+    ErrorCorrelation correlation; // the last frame's, with a reference
     Comparison comparison;
 };
 
@@ -294,9 +297,12 @@ Timings run_frames(const Options& o, Context& h, Context& d, bool gpu, std::uint
                 if (gpu_frame[r] > 0.0)
                     t.gpu_ms[r].push_back(gpu_frame[r]);
             t.gpu_frame_ms.push_back(frame_ms);
-            if (reference.image != nullptr)
+            if (reference.image != nullptr) {
                 t.frame_errors.push_back(
                     frame_mse(reference.squared_error, d.image, reference.image, pixels));
+                if (frame + 1u == total)
+                    t.correlation = error_correlation(d.image, reference.image, o.width, o.height);
+            }
         }
         end_frame(h);
         end_frame(d);
@@ -353,6 +359,16 @@ bool print_table(const Timings& t, const Context& h, bool packed, bool gpu, std:
             mean += e / static_cast<double>(t.frame_errors.size());
         std::printf("per-frame MSE against the reference: %.5g (mean of %zu frames)\n", mean,
                     t.frame_errors.size());
+        std::printf("the last frame's error autocorrelation at");
+        for (const std::uint32_t lag : correlation_lags)
+            std::printf(" %u", lag);
+        std::printf(" px:\n  along x");
+        for (const double v : t.correlation.x)
+            std::printf(" %.4f", v);
+        std::printf("\n  along y");
+        for (const double v : t.correlation.y)
+            std::printf(" %.4f", v);
+        std::printf("\n");
     }
     return all_agree;
 }
@@ -465,6 +481,9 @@ int run_benchmark(const Options& o) {
         if (!h.bvh_source)
             std::printf("light tiles: %u of %u entries, one per %ux%u pixels\n", box::tile_count,
                         box::tile_size, h.tile_group, h.tile_group);
+        if (o.share_x * o.share_y > 1u)
+            std::printf("candidates: each %ux%u pixels draw the same tile entries\n", o.share_x,
+                        o.share_y);
         if (!shadow_rays)
             std::printf("shadow rays: none (every sample visible; the frame is the library's "
                         "work alone)\n");

@@ -103,6 +103,7 @@ inline constexpr std::uint32_t tile_count = 128u; // restir-render's light tiles
 inline constexpr std::uint32_t tile_size = 2048u; // a power of two
 inline constexpr std::uint32_t block_size = 8u;   // candidates per batch-RIS block
 inline constexpr std::uint32_t tile_stream = restir::RngStream::application;
+inline constexpr std::uint32_t shared_candidates_stream = restir::RngStream::application + 1u;
 
 /// Everything a pass reads and writes, as pointers (device pointers for a kernel, host
 /// pointers for the CPU); passed by value.
@@ -124,9 +125,10 @@ struct Context {
     float ray_offset = 0.1f;
     restir::LightTileArrays tiles{};
     std::uint32_t tile_group = 16u; // pixels per side of the square groups that share a tile
-    bool bvh_source = false;        // candidates drawn per pixel from the light BVH, not the tiles
-    restir::LightBvhView bvh{};     // over `lights`
-    Texel* surfaces = nullptr;      // this frame's G-buffer
+    std::uint32_t share_x = 1u, share_y = 1u; // pixels of a group that draws the same entries
+    bool bvh_source = false;    // candidates drawn per pixel from the light BVH, not the tiles
+    restir::LightBvhView bvh{}; // over `lights`
+    Texel* surfaces = nullptr;  // this frame's G-buffer
     Texel* previous_surfaces = nullptr; // last frame's
     Reservoir* out = nullptr;           // the recipe's `DiBuffers::out`: the final reservoirs
     Reservoir* scratch = nullptr;       // the other side of its ping-pong
@@ -235,8 +237,19 @@ struct InitialCandidates {
         const auto x = static_cast<std::uint32_t>(pixel.x), y = static_cast<std::uint32_t>(pixel.y);
         const std::uint32_t tile = c.tile_of_group(x / c.tile_group, y / c.tile_group);
         const std::uint32_t block_mask = c.tiles.tile_size / block_size - 1u;
-        const std::uint32_t start = rng.next_uint();
-        const std::uint32_t stride = rng.next_uint() | 1u;
+        // The blocks' positions in the tile: the pixel's own, or its group's (the same entries
+        // for each pixel of a share_x x share_y group, so that a warp's loads coincide). Either
+        // way each entry is a uniform draw of the tile, so each pixel's RIS stays unbiased.
+        restir::Pcg32 group_rng =
+            c.share_x * c.share_y > 1u
+                ? restir::make_pixel_rng(
+                      x / c.share_x + y / c.share_y * ((c.width + c.share_x - 1u) / c.share_x),
+                      c.frame, shared_candidates_stream, c.seed)
+                : rng;
+        const std::uint32_t start = group_rng.next_uint();
+        const std::uint32_t stride = group_rng.next_uint() | 1u;
+        if (c.share_x * c.share_y <= 1u)
+            rng = group_rng;
         const glm::vec3 channel_weights = albedo_of(s.material) * restir::inv_pi;
         const auto picked = restir::resample_ris_batch<block_size>(
             rng, c.candidates, [&](std::uint32_t b, restir::CandidateBlock<block_size>& block) {
