@@ -160,8 +160,7 @@ Context base_context(const Options& o, bool cornell, restir::Falloff falloff, fl
     base.tiles.tile_size = box::tile_size;
     base.candidates = o.candidates;
     base.tile_group = o.tile_group;
-    base.share_x = o.share_x;
-    base.share_y = o.share_y;
+    base.lanes = o.lanes;
     base.bvh_source = o.source == "bvh";
     if (!o.reuse) {
         base.params.temporal_reuse = false;
@@ -481,9 +480,10 @@ int run_benchmark(const Options& o) {
         if (!h.bvh_source)
             std::printf("light tiles: %u of %u entries, one per %ux%u pixels\n", box::tile_count,
                         box::tile_size, h.tile_group, h.tile_group);
-        if (o.share_x * o.share_y > 1u)
-            std::printf("candidates: each %ux%u pixels draw the same tile entries\n", o.share_x,
-                        o.share_y);
+        if (!h.bvh_source && o.lanes < 8u)
+            std::printf("candidates: %u of the 8 entries of each group of the tile that %s pixels "
+                        "read\n",
+                        o.lanes, o.lanes == 4u ? "2 x 1" : "2 x 2");
         if (!shadow_rays)
             std::printf("shadow rays: none (every sample visible; the frame is the library's "
                         "work alone)\n");

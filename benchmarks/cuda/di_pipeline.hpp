@@ -101,9 +101,8 @@ struct Target {
 
 inline constexpr std::uint32_t tile_count = 128u; // restir-render's light tiles
 inline constexpr std::uint32_t tile_size = 2048u; // a power of two
-inline constexpr std::uint32_t block_size = 8u;   // candidates per batch-RIS block
 inline constexpr std::uint32_t tile_stream = restir::RngStream::application;
-inline constexpr std::uint32_t shared_candidates_stream = restir::RngStream::application + 1u;
+inline constexpr std::uint32_t shared_groups_stream = restir::RngStream::application + 1u;
 
 /// Everything a pass reads and writes, as pointers (device pointers for a kernel, host
 /// pointers for the CPU); passed by value.
@@ -125,10 +124,10 @@ struct Context {
     float ray_offset = 0.1f;
     restir::LightTileArrays tiles{};
     std::uint32_t tile_group = 16u; // pixels per side of the square groups that share a tile
-    std::uint32_t share_x = 1u, share_y = 1u; // pixels of a group that draws the same entries
-    bool bvh_source = false;    // candidates drawn per pixel from the light BVH, not the tiles
-    restir::LightBvhView bvh{}; // over `lights`
-    Texel* surfaces = nullptr;  // this frame's G-buffer
+    std::uint32_t lanes = 4u;       // tile entries a pixel takes of each group of 8 that it reads
+    bool bvh_source = false;        // candidates drawn per pixel from the light BVH, not the tiles
+    restir::LightBvhView bvh{};     // over `lights`
+    Texel* surfaces = nullptr;      // this frame's G-buffer
     Texel* previous_surfaces = nullptr; // last frame's
     Reservoir* out = nullptr;           // the recipe's `DiBuffers::out`: the final reservoirs
     Reservoir* scratch = nullptr;       // the other side of its ping-pong
@@ -226,38 +225,55 @@ RESTIR_HOST_DEVICE inline Reservoir bvh_candidates(const Context& c, const Texel
         [&](const restir::LightPointSample& x) { return Target{}(x, s); });
 }
 
+/// Batch RIS over the pixel block's light tile, `Lanes` entries of each group of the tile that
+/// the pixel reads (`restir::tile_group_size` = 8: restir-render's blocks of 8 consecutive
+/// entries). With fewer, 8 / Lanes pixels (a pair along x for 4 lanes, 2 x 2 pixels for 2) read
+/// the same groups, each its own lanes of them: a warp's loads touch 8 / Lanes times fewer
+/// cache lines, and the pixels' candidates are still different entries. The tile's entries are
+/// independent draws of one density, so a pixel's candidates are distributed as with 8.
+template <std::uint32_t Lanes>
+RESTIR_HOST_DEVICE Reservoir tile_candidates(const Context& c, std::uint32_t x, std::uint32_t y,
+                                             const Texel& s, restir::Pcg32& rng) {
+    constexpr std::uint32_t sharing = restir::tile_group_size / Lanes; // pixels per group
+    const std::uint32_t tile = c.tile_of_group(x / c.tile_group, y / c.tile_group);
+    const std::uint32_t group_mask = c.tiles.tile_size / restir::tile_group_size - 1u;
+    // The groups' positions in the tile: the pixel's own, or those of its pixel group (and the
+    // pixel's part of each group).
+    std::uint32_t start = 0u, stride = 0u, rank = 0u;
+    if constexpr (sharing == 1u) {
+        start = rng.next_uint();
+        stride = rng.next_uint() | 1u;
+    } else {
+        const std::uint32_t columns = (c.width + 1u) / 2u;
+        restir::Pcg32 pixels = restir::make_pixel_rng(
+            x / 2u + (sharing == 2u ? y : y / 2u) * columns, c.frame, shared_groups_stream, c.seed);
+        start = pixels.next_uint();
+        stride = pixels.next_uint() | 1u;
+        rank = sharing == 2u ? x % 2u : x % 2u + 2u * (y % 2u);
+    }
+    const glm::vec3 channel_weights = albedo_of(s.material) * restir::inv_pi;
+    const auto picked = restir::resample_ris_batch<Lanes>(
+        rng, c.candidates, [&](std::uint32_t b, restir::CandidateBlock<Lanes>& block) {
+            const std::uint32_t first =
+                ((start + b * stride) & group_mask) * restir::tile_group_size + rank * Lanes;
+            return restir::evaluate_tile_block<Lanes, target_norm>(
+                c.tiles, tile, first, s.position, s.normal, channel_weights, block);
+        });
+    return picked.with_sample(c.tiles.point_sample(picked.sample));
+}
+
 /// The initial stage's candidates (restir-render's tile_reservoir): batch RIS over the pixel
-/// block's light tile, or streaming RIS from the light BVH (`bvh_source`).
+/// block's light tile (`tile_candidates<Lanes>`; `Context::lanes` chooses the kernel), or
+/// streaming RIS from the light BVH (`bvh_source`).
+template <std::uint32_t Lanes = restir::tile_group_size>
 struct InitialCandidates {
     const Context& c;
     RESTIR_HOST_DEVICE Reservoir operator()(restir::PixelCoord pixel, const Texel& s,
                                             restir::Pcg32& rng) const {
         if (c.bvh_source)
             return bvh_candidates(c, s, rng);
-        const auto x = static_cast<std::uint32_t>(pixel.x), y = static_cast<std::uint32_t>(pixel.y);
-        const std::uint32_t tile = c.tile_of_group(x / c.tile_group, y / c.tile_group);
-        const std::uint32_t block_mask = c.tiles.tile_size / block_size - 1u;
-        // The blocks' positions in the tile: the pixel's own, or its group's (the same entries
-        // for each pixel of a share_x x share_y group, so that a warp's loads coincide). Either
-        // way each entry is a uniform draw of the tile, so each pixel's RIS stays unbiased.
-        restir::Pcg32 group_rng =
-            c.share_x * c.share_y > 1u
-                ? restir::make_pixel_rng(
-                      x / c.share_x + y / c.share_y * ((c.width + c.share_x - 1u) / c.share_x),
-                      c.frame, shared_candidates_stream, c.seed)
-                : rng;
-        const std::uint32_t start = group_rng.next_uint();
-        const std::uint32_t stride = group_rng.next_uint() | 1u;
-        if (c.share_x * c.share_y <= 1u)
-            rng = group_rng;
-        const glm::vec3 channel_weights = albedo_of(s.material) * restir::inv_pi;
-        const auto picked = restir::resample_ris_batch<block_size>(
-            rng, c.candidates, [&](std::uint32_t b, restir::CandidateBlock<block_size>& block) {
-                const std::uint32_t first = ((start + b * stride) & block_mask) * block_size;
-                return restir::evaluate_tile_block<block_size, target_norm>(
-                    c.tiles, tile, first, s.position, s.normal, channel_weights, block);
-            });
-        return picked.with_sample(c.tiles.point_sample(picked.sample));
+        return tile_candidates<Lanes>(c, static_cast<std::uint32_t>(pixel.x),
+                                      static_cast<std::uint32_t>(pixel.y), s, rng);
     }
 };
 
@@ -294,10 +310,10 @@ struct Shading {
 
 /// Step `step` of `frame` (stage `Stage`) at pixel (x, y): the recipe's code, nothing of ours
 /// but the collaborators.
-template <restir::DiStage Stage, class Frame>
+template <restir::DiStage Stage, std::uint32_t Lanes, class Frame>
 RESTIR_HOST_DEVICE void run_step(const Frame& frame, const restir::DiStep& step, const Context& c,
                                  std::uint32_t x, std::uint32_t y) {
-    frame.template run_stage<Stage>(step, c.pixel(x, y), c.buffers(), InitialCandidates{c},
+    frame.template run_stage<Stage>(step, c.pixel(x, y), c.buffers(), InitialCandidates<Lanes>{c},
                                     c.bridge(), PixelRngs{c}, Shading{c});
 }
 

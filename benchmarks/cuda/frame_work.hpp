@@ -47,13 +47,27 @@ inline constexpr std::uint32_t step_blocks_per_sm = 5u;
 
 // One step of the recipe over the pixels, compiled for stage `Stage` only; the frame by value
 // (a kernel parameter: no copy in local memory).
-template <DiStage Stage, class Frame>
+// (The initial stage's kernel also for the candidates' `Lanes`, `Context::lanes`.)
+template <DiStage Stage, std::uint32_t Lanes, class Frame>
 __global__ void __launch_bounds__(step_block_threads, step_blocks_per_sm)
     step_kernel(Frame frame, DiStep step, Context c) {
     const std::uint32_t x = blockIdx.x * blockDim.x + threadIdx.x;
     const std::uint32_t y = blockIdx.y * blockDim.y + threadIdx.y;
     if (x < c.width && y < c.height)
-        box::run_step<Stage>(frame, step, c, x, y);
+        box::run_step<Stage, Lanes>(frame, step, c, x, y);
+}
+
+// `f.template operator()<L>()` with L = c.lanes (8, 4 or 2) as a constant.
+template <class F>
+decltype(auto) with_lanes(const Context& c, F&& f) {
+    switch (c.lanes) {
+    case 2u:
+        return f.template operator()<2u>();
+    case 4u:
+        return f.template operator()<4u>();
+    default:
+        return f.template operator()<restir::tile_group_size>();
+    }
 }
 
 inline dim3 pixel_block(16, 8); // --block
@@ -72,15 +86,21 @@ void launch_step(const Frame& frame, const DiStep& step, const Context& c) {
                     (c.height + pixel_block.y - 1) / pixel_block.y);
     switch (step.stage) {
     case DiStage::initial:
-        return step_kernel<DiStage::initial><<<grid, pixel_block>>>(frame, step, c);
+        return with_lanes(c, [&]<std::uint32_t Lanes>() {
+            step_kernel<DiStage::initial, Lanes><<<grid, pixel_block>>>(frame, step, c);
+        });
     case DiStage::temporal:
-        return step_kernel<DiStage::temporal><<<grid, pixel_block>>>(frame, step, c);
+        return step_kernel<DiStage::temporal, restir::tile_group_size>
+            <<<grid, pixel_block>>>(frame, step, c);
     case DiStage::spatial:
-        return step_kernel<DiStage::spatial><<<grid, pixel_block>>>(frame, step, c);
+        return step_kernel<DiStage::spatial, restir::tile_group_size>
+            <<<grid, pixel_block>>>(frame, step, c);
     case DiStage::boiling:
-        return step_kernel<DiStage::boiling><<<grid, pixel_block>>>(frame, step, c);
+        return step_kernel<DiStage::boiling, restir::tile_group_size>
+            <<<grid, pixel_block>>>(frame, step, c);
     case DiStage::finish:
-        return step_kernel<DiStage::finish><<<grid, pixel_block>>>(frame, step, c);
+        return step_kernel<DiStage::finish, restir::tile_group_size>
+            <<<grid, pixel_block>>>(frame, step, c);
     }
 }
 
@@ -154,9 +174,11 @@ void run_work(const Work& w, const Context& c, bool gpu, std::uint32_t threads) 
     if (gpu)
         return launch_step(frame, w.step, c);
     const restir::DiBuffers<restir::LightPointSample> buffers = c.buffers();
-    for_each_item(c.width, c.height, threads, [&](std::uint32_t x, std::uint32_t y) {
-        frame.run_pixel(w.step, c.pixel(x, y), buffers, box::InitialCandidates{c}, c.bridge(),
-                        box::PixelRngs{c}, box::Shading{c});
+    with_lanes(c, [&]<std::uint32_t Lanes>() {
+        for_each_item(c.width, c.height, threads, [&](std::uint32_t x, std::uint32_t y) {
+            frame.run_pixel(w.step, c.pixel(x, y), buffers, box::InitialCandidates<Lanes>{c},
+                            c.bridge(), box::PixelRngs{c}, box::Shading{c});
+        });
     });
 }
 inline void run_work(const Work& w, const Context& c, bool gpu, std::uint32_t threads) {

@@ -26,16 +26,16 @@ struct Options {
     std::uint32_t lights = 100'000;         // many-lights: light quads
     std::string reference_source = "tiles"; // the reference's RIS candidates: tiles | bvh
     std::uint32_t reference_candidates = 32;
-    std::string source = "tiles";             // tiles | bvh (initial candidates)
-    std::uint32_t candidates = 32;            // initial candidates per pixel
-    bool reuse = true;                        // false: RIS alone (no temporal or spatial reuse)
-    bool static_camera = false;               // the camera of frame 0 in every frame
-    std::uint32_t reference_frames = 0;       // > 0: per-frame MSE against this many frames of RIS
-    std::string image;                        // PPM of the last frame
-    std::uint32_t block_x = 16, block_y = 8;  // threads per CUDA block of the pixel passes
-    std::uint32_t tile_group = 16u;           // pixels per side of a group that shares a light tile
-    std::uint32_t share_x = 1u, share_y = 1u; // pixels of a group that draws the same entries
-    float radius = 20.0f; // spatial radius in pixels per 1080 rows (restir-render's default)
+    std::string source = "tiles";            // tiles | bvh (initial candidates)
+    std::uint32_t candidates = 32;           // initial candidates per pixel
+    bool reuse = true;                       // false: RIS alone (no temporal or spatial reuse)
+    bool static_camera = false;              // the camera of frame 0 in every frame
+    std::uint32_t reference_frames = 0;      // > 0: per-frame MSE against this many frames of RIS
+    std::string image;                       // PPM of the last frame
+    std::uint32_t block_x = 16, block_y = 8; // threads per CUDA block of the pixel passes
+    std::uint32_t tile_group = 16u;          // pixels per side of a group that shares a light tile
+    std::uint32_t lanes = 4u; // tile entries a pixel takes of each group of 8 that it reads
+    float radius = 20.0f;     // spatial radius in pixels per 1080 rows (restir-render's default)
     std::string shadow_rays = "analytic"; // analytic | none (visible: the library's work alone)
 };
 
@@ -51,13 +51,14 @@ struct Options {
                  "                   [--reference-frames N] [--reference-source tiles|bvh]\n"
                  "                   [--reference-candidates N] [--scene cornell|many-lights]\n"
                  "                   [--lights N] [--tile-group N] [--radius PX]\n"
-                 "                   [--shadow-rays analytic|none] [--share-candidates WxH]\n"
+                 "                   [--shadow-rays analytic|none] [--lanes 4|8|2]\n"
                  "--radius: the spatial pass's radius in pixels per 1080 rows (default 20,\n"
                  "restir-render's; the paper's is 30)\n"
                  "--shadow-rays none: every shadow ray finds the scene empty (each reads the\n"
                  "triangle count, 0), so that the frame times the library's work alone\n"
-                 "--share-candidates WxH: the pixels of each W x H group draw the same tile\n"
-                 "entries (each pixel still resamples them by its own target; default 1x1)\n");
+                 "--lanes N: each pixel takes N of the 8 entries of each group of the tile it\n"
+                 "reads, and 8 / N pixels (2 x 1 for 4, 2 x 2 for 2) read the same groups\n"
+                 "(default 4; 8 is restir-render's blocks of 8 entries a pixel)\n");
     std::exit(message != nullptr ? 2 : 0);
 }
 
@@ -151,13 +152,10 @@ inline Options parse(int argc, char** argv) {
             o.block_y = parse_count(v.substr(x + 1).c_str(), 1, 1024);
             if (o.block_x * o.block_y > 128)
                 usage("--block: at most 128 threads (the step kernels' launch bounds)");
-        } else if (a == "--share-candidates") {
-            const std::string v = value();
-            const std::size_t x = v.find('x');
-            if (x == std::string::npos)
-                usage("--share-candidates takes WxH, for example 16x2");
-            o.share_x = parse_count(v.substr(0, x).c_str(), 1, 64);
-            o.share_y = parse_count(v.substr(x + 1).c_str(), 1, 64);
+        } else if (a == "--lanes") {
+            o.lanes = parse_count(value(), 2, 8);
+            if (o.lanes != 2u && o.lanes != 4u && o.lanes != 8u)
+                usage("--lanes takes 8, 4 or 2");
         } else
             usage(("unknown option " + a).c_str());
     }

@@ -255,7 +255,20 @@ __global__ void batch_ris_kernel(float* planes, restir::LightSampleRef* referenc
     const restir::LightPointVisibility<NeverOccluded> visible{&query, 1e-3f};
     const GBufferTexel texel{receiver, normal, 1.0f};
     restir::apply_visibility(r, texel, visible);
-    out[i] = r.contribution_weight * restir::unshadowed_irradiance(r.sample, receiver, normal).x;
+    // Parts of groups (4, 2 and 1 of their 8 entries), as pixels that share groups read them.
+    const auto parts = [&]<std::uint32_t Lanes>() {
+        return restir::resample_ris_batch<Lanes>(
+                   rng, 4u * Lanes,
+                   [&](std::uint32_t b, restir::CandidateBlock<Lanes>& block) {
+                       return restir::evaluate_tile_block(tiles, i % 4u,
+                                                          b * 8u + (i % (8u / Lanes)) * Lanes,
+                                                          receiver, normal, glm::vec3(1.0f), block);
+                   })
+            .contribution_weight;
+    };
+    out[i] = r.contribution_weight * restir::unshadowed_irradiance(r.sample, receiver, normal).x +
+             parts.template operator()<4u>() + parts.template operator()<2u>() +
+             parts.template operator()<1u>();
 }
 
 __global__ void reuse_kernel(const glm::vec3* light_positions, const GBufferTexel* texels,

@@ -432,6 +432,26 @@ TEST(LightTileArrays, BlockTargetsMatchUnshadowedIrradiance) {
                                                   channel_weights, wide),
                       32u);
             check(wide, 8u, at);
+            // Parts of a group (4, 2 or 1 of its 8 entries): the whole group's lanes, exactly.
+            CandidateBlock<8> whole;
+            restir::evaluate_tile_block(tiles, 1u, 16u, at.position, at.normal, channel_weights,
+                                        whole);
+            const auto check_parts = [&]<std::uint32_t Lanes>() {
+                for (std::uint32_t lane = 0; lane < 8u; lane += Lanes) {
+                    CandidateBlock<Lanes> part;
+                    EXPECT_EQ(restir::evaluate_tile_block(tiles, 1u, 16u + lane, at.position,
+                                                          at.normal, channel_weights, part),
+                              40u + lane);
+                    for (std::uint32_t k = 0; k < Lanes; ++k) {
+                        EXPECT_EQ(part.target[k], whole.target[lane + k]) << Lanes << " " << lane;
+                        EXPECT_EQ(part.inverse_pdf[k], whole.inverse_pdf[lane + k]);
+                    }
+                    check(part, 16u + lane, at);
+                }
+            };
+            check_parts.template operator()<4u>();
+            check_parts.template operator()<2u>();
+            check_parts.template operator()<1u>();
         }
         // The receivers see lights from the front and from behind, and lights facing away.
         EXPECT_GT(zero, 40);

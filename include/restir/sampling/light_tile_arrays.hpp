@@ -22,6 +22,7 @@
 #include <cmath>
 #include <concepts>
 #include <cstdint>
+#include <type_traits>
 
 namespace restir {
 
@@ -194,34 +195,48 @@ RESTIR_HOST_DEVICE float tile_entry_radiance_target(const Value& value, glm::vec
 }
 
 /// The loop of `evaluate_tile_block`: `lane_target(value)` is p-hat of the entry whose plane
-/// values `value(TilePlane)` reads.
+/// values `value(TilePlane)` reads. A block covers whole groups, or `Size` (1, 2 or 4)
+/// consecutive entries inside one group.
 template <std::uint32_t Size, class LaneTarget>
 RESTIR_HOST_DEVICE std::uint32_t
 evaluate_tile_block_with(const LightTileArrays& tiles, std::uint32_t tile, std::uint32_t first,
                          CandidateBlock<Size>& block, const LaneTarget& lane_target) {
-    static_assert(Size % tile_group_size == 0u, "blocks cover whole groups of tile entries");
+    static_assert(Size % tile_group_size == 0u || tile_group_size % Size == 0u,
+                  "blocks cover whole groups of tile entries, or a part of one");
+    // Entries of one group that a block reads: all of them, or its own `Size`.
+    constexpr std::uint32_t lanes = Size < tile_group_size ? Size : tile_group_size;
     RESTIR_ASSERT(tile < tiles.tile_count && first + Size <= tiles.tile_size &&
-                  first % tile_group_size == 0u);
-    constexpr std::uint32_t lanes = tile_group_size;
+                  first % lanes == 0u);
     const std::uint32_t base = tile * tiles.tile_size + first;
     for (std::uint32_t group = 0; group < Size / lanes; ++group) {
-        // The group's planes lie one after the other, `lanes` floats each.
-        const float* planes =
-            tiles.group_plane(std::uint64_t{base} + group * lanes, TilePlane::position_x);
+        const std::uint64_t entry = std::uint64_t{base} + group * lanes;
+        const std::uint32_t lane0 = static_cast<std::uint32_t>(entry % tile_group_size);
+        // The group's planes lie one after the other, `tile_group_size` floats each; the
+        // block's lanes start at `lane0` in each.
+        const float* planes = tiles.group_plane(entry - lane0, TilePlane::position_x) + lane0;
 #if defined(__CUDA_ARCH__)
-        // Four lanes at a time, each plane's four values in one 16-byte load through the
-        // read-only cache: a thread reads its block's 416 bytes once. (With 4-byte loads a
-        // 32-byte sector of 8 lanes may be fetched from L2 once per lane, since L1 cannot hold
-        // every thread's block; docs/performance.md, "GPU".)
-        RESTIR_ASSERT(reinterpret_cast<std::uintptr_t>(planes) % 16u == 0u);
-        for (std::uint32_t quad = 0; quad < lanes; quad += 4u) {
-            float4 values[tile_plane_count];
+        // Up to four lanes at a time, each plane's values in one load (16 bytes for four)
+        // through the read-only cache: a thread reads its block's bytes once. (With 4-byte
+        // loads of eight lanes a 32-byte sector may be fetched from L2 once per lane, since L1
+        // cannot hold every thread's block; docs/performance.md, "GPU".)
+        constexpr std::uint32_t width = lanes < 4u ? lanes : 4u;
+        using Vector =
+            std::conditional_t<width == 4u, float4, std::conditional_t<width == 2u, float2, float>>;
+        RESTIR_ASSERT(reinterpret_cast<std::uintptr_t>(planes) % sizeof(Vector) == 0u);
+        for (std::uint32_t quad = 0; quad < lanes; quad += width) {
+            Vector values[tile_plane_count];
             for (std::uint32_t k = 0; k < tile_plane_count; ++k)
-                values[k] = __ldg(reinterpret_cast<const float4*>(planes + k * lanes + quad));
-            for (std::uint32_t j = 0; j < 4u; ++j) {
+                values[k] =
+                    __ldg(reinterpret_cast<const Vector*>(planes + k * tile_group_size + quad));
+            for (std::uint32_t j = 0; j < width; ++j) {
                 const auto value = [&](TilePlane k) {
-                    const float4& v = values[static_cast<std::uint32_t>(k)];
-                    return j == 0u ? v.x : j == 1u ? v.y : j == 2u ? v.z : v.w;
+                    const Vector& v = values[static_cast<std::uint32_t>(k)];
+                    if constexpr (width == 4u)
+                        return j == 0u ? v.x : j == 1u ? v.y : j == 2u ? v.z : v.w;
+                    else if constexpr (width == 2u)
+                        return j == 0u ? v.x : v.y;
+                    else
+                        return v;
                 };
                 block.target[group * lanes + quad + j] = lane_target(value);
                 block.inverse_pdf[group * lanes + quad + j] = value(TilePlane::inverse_pdf);
@@ -235,7 +250,7 @@ evaluate_tile_block_with(const LightTileArrays& tiles, std::uint32_t tile, std::
         float weight_scale[lanes];
         for (std::uint32_t i = 0; i < lanes; ++i) {
             const auto value = [&](TilePlane k) {
-                return planes[static_cast<std::uint32_t>(k) * lanes + i];
+                return planes[static_cast<std::uint32_t>(k) * tile_group_size + i];
             };
             target[i] = lane_target(value);
             weight_scale[i] = value(TilePlane::inverse_pdf);
@@ -256,9 +271,12 @@ evaluate_tile_block_with(const LightTileArrays& tiles, std::uint32_t tile, std::
 /// the unshadowed irradiance (`folded_irradiance_factor` times the entry's intensity;
 /// channel_weights = albedo / pi gives a diffuse receiver's reflected radiance; with
 /// ChannelNorm::sum, dot(channel_weights, E_i)). `Size` and `first` are multiples of
-/// `tile_group_size`. Fills `block` and returns the global entry index of its lane 0, as
-/// `resample_ris_batch` expects. In device code `tiles.planes` must be 16-byte aligned (as
-/// cudaMalloc's memory is): each plane's lanes are read as 16-byte loads.
+/// `tile_group_size` (whole groups), or `Size` is 1, 2 or 4 and `first` a multiple of it (a
+/// part of one group: pixels that take different parts of the same groups read the same cache
+/// lines, yet their candidates are different entries). Fills `block` and returns the global
+/// entry index of its lane 0, as `resample_ris_batch` expects. In device code `tiles.planes`
+/// must be 16-byte aligned (as cudaMalloc's memory is): each plane's lanes are read as loads of
+/// up to 16 bytes.
 template <std::uint32_t Size, ChannelNorm Norm = ChannelNorm::sum>
 RESTIR_HOST_DEVICE std::uint32_t
 evaluate_tile_block(const LightTileArrays& tiles, std::uint32_t tile, std::uint32_t first,
