@@ -154,6 +154,7 @@ Context base_context(const Options& o, bool cornell, restir::Falloff falloff, fl
     base.width = o.width;
     base.height = o.height;
     base.params = box::recipe_params(o.height, o.radius, o.mis_rays);
+    base.params.spatial_draw_span = o.draw_span;
     base.falloff = falloff;
     base.ray_offset = 1e-4f * extent;
     base.tiles.tile_count = box::tile_count;
@@ -488,8 +489,10 @@ int run_benchmark(const Options& o) {
             std::printf("shadow rays: none (every sample visible; the frame is the library's "
                         "work alone)\n");
         if (o.reuse)
-            std::printf("spatial reuse: %u neighbours in %.1f px (%g px per 1080 rows)\n",
-                        h.params.spatial.neighbour_count, h.params.spatial.radius, o.radius);
+            std::printf("spatial reuse: %u neighbours in %.1f px (%g px per 1080 rows), one draw "
+                        "per %u pixel%s of a row\n",
+                        h.params.spatial.neighbour_count, h.params.spatial.radius, o.radius,
+                        o.draw_span, o.draw_span == 1u ? "" : "s");
         const Timings t = run_frames(o, h, d, gpu, threads, reference, pixels);
         all_agree = print_table(t, h, packed, gpu, pixels) && all_agree;
         if (!o.image.empty() && layout == layouts.back()) {

@@ -34,8 +34,9 @@ struct Options {
     std::string image;                       // PPM of the last frame
     std::uint32_t block_x = 16, block_y = 8; // threads per CUDA block of the pixel passes
     std::uint32_t tile_group = 16u;          // pixels per side of a group that shares a light tile
-    std::uint32_t lanes = 4u; // tile entries a pixel takes of each group of 8 that it reads
-    float radius = 20.0f;     // spatial radius in pixels per 1080 rows (restir-render's default)
+    std::uint32_t lanes = 4u;     // tile entries a pixel takes of each group of 8 that it reads
+    std::uint32_t draw_span = 4u; // pixels along a row that take one spatial neighbour draw
+    float radius = 20.0f; // spatial radius in pixels per 1080 rows (restir-render's default)
     std::string shadow_rays = "analytic"; // analytic | none (visible: the library's work alone)
 };
 
@@ -52,13 +53,16 @@ struct Options {
                  "                   [--reference-candidates N] [--scene cornell|many-lights]\n"
                  "                   [--lights N] [--tile-group N] [--radius PX]\n"
                  "                   [--shadow-rays analytic|none] [--lanes 4|8|2]\n"
+                 "                   [--draw-span N]\n"
                  "--radius: the spatial pass's radius in pixels per 1080 rows (default 20,\n"
                  "restir-render's; the paper's is 30)\n"
                  "--shadow-rays none: every shadow ray finds the scene empty (each reads the\n"
                  "triangle count, 0), so that the frame times the library's work alone\n"
                  "--lanes N: each pixel takes N of the 8 entries of each group of the tile it\n"
                  "reads, and 8 / N pixels (2 x 1 for 4, 2 x 2 for 2) read the same groups\n"
-                 "(default 4; 8 is restir-render's blocks of 8 entries a pixel)\n");
+                 "(default 4; 8 is restir-render's blocks of 8 entries a pixel)\n"
+                 "--draw-span N: N pixels along a row reuse from the same neighbour offsets\n"
+                 "(DiFrameParams::spatial_draw_span; default 4; 1: each pixel its own)\n");
     std::exit(message != nullptr ? 2 : 0);
 }
 
@@ -152,6 +156,8 @@ inline Options parse(int argc, char** argv) {
             o.block_y = parse_count(v.substr(x + 1).c_str(), 1, 1024);
             if (o.block_x * o.block_y > 128)
                 usage("--block: at most 128 threads (the step kernels' launch bounds)");
+        } else if (a == "--draw-span") {
+            o.draw_span = parse_count(value(), 1, 64);
         } else if (a == "--lanes") {
             o.lanes = parse_count(value(), 2, 8);
             if (o.lanes != 2u && o.lanes != 4u && o.lanes != 8u)

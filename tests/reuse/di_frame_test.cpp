@@ -299,6 +299,10 @@ std::vector<Variant> variants() {
     q.visibility = restir::ReuseVisibility::assumed;
     v.push_back({"ray-free MIS", q});
     q = p;
+    q.spatial_passes = 2u;
+    q.spatial_draw_span = 3u;
+    v.push_back({"2 spatial passes, one neighbour draw per 3 pixels", q});
+    q = p;
     q.temporal_reuse = false;
     v.push_back({"no temporal reuse", q});
     return v;
@@ -306,6 +310,9 @@ std::vector<Variant> variants() {
 
 TEST(DiFrame, RunDiFrameEqualsThePassesCalledByHand) {
     for (const Variant& variant : variants()) {
+        // By hand, each pixel draws its own neighbours (`spatial_resample`).
+        if (variant.params.spatial_draw_span > 1u)
+            continue;
         RecipeRenderer recipe(variant.params);
         HandWrittenRenderer by_hand(variant.params);
         for (std::uint32_t frame = 0; frame < 6; ++frame) {
@@ -483,17 +490,40 @@ TEST(DiFrame, EveryStageRayIsOneTheRecipeNeeds) {
     EXPECT_LE(recipe.rays, 2u * shaded * (1u + 3u + 1u) + shaded * (1u + 1u));
 }
 
+// With spatial_draw_span > 1 a pixel reuses from the offsets that the first pixel of its span
+// draws with the first two numbers of its generator of the pass; the pixel's own generator
+// gives them only where it is that first pixel.
+TEST(DiFrame, PixelsOfASpanTakeTheNeighbourDrawOfItsFirst) {
+    const auto rngs = [](PixelCoord q, std::uint32_t stream) { return rng_for(q, 5u, stream, 9u); };
+    for (std::uint32_t span : {1u, 2u, 4u}) {
+        restir::DiFrameParams p = restir::default_di_frame_params();
+        p.spatial_draw_span = span;
+        const Frame f{.params = p};
+        for (std::int32_t x = 0; x < 9; ++x) {
+            SCOPED_TRACE(::testing::Message() << "span " << span << ", x " << x);
+            const PixelCoord pixel{x, 1};
+            restir::Pcg32 own = rngs(pixel, RngStream::spatial + 1u);
+            restir::Pcg32 untouched = own;
+            const restir::NeighbourDraw draw = f.neighbour_draw(pixel, 1u, own, rngs);
+            const auto s = static_cast<std::int32_t>(span);
+            restir::Pcg32 first = rngs({x - x % s, 1}, RngStream::spatial + 1u);
+            const restir::NeighbourDraw expected = restir::draw_neighbours(first);
+            EXPECT_EQ(draw.start, expected.start);
+            EXPECT_EQ(draw.rotation.x, expected.rotation.x);
+            EXPECT_EQ(draw.rotation.y, expected.rotation.y);
+            if (x % s == 0)
+                restir::draw_neighbours(untouched);
+            EXPECT_EQ(own.next_uint(), untouched.next_uint());
+        }
+    }
+}
+
 // Whole frames through the recipe are unbiased at every pixel (the figure a renderer shows),
 // for the unbiased modes with two spatial passes after temporal reuse, over 12 frames with a
 // camera cut in frame 6.
 class UnbiasedRecipe : public ::testing::TestWithParam<BiasCorrection> {};
 
-TEST_P(UnbiasedRecipe, MeanMatchesTruthAtEveryPixel) {
-    restir::DiFrameParams p = restir::default_di_frame_params();
-    p.temporal_bias_correction = GetParam();
-    p.spatial_bias_correction = GetParam();
-    p.spatial.radius = 2.0f;
-    p.spatial_passes = 2u;
+void expect_unbiased_recipe(const restir::DiFrameParams& p) {
     constexpr std::uint32_t frames = 12u, trials = 3000u, cut = 6u;
     std::vector<RunningStats> stats(pixel_count);
     for (std::uint32_t trial = 0; trial < trials; ++trial) {
@@ -512,6 +542,27 @@ TEST_P(UnbiasedRecipe, MeanMatchesTruthAtEveryPixel) {
         const Patch s = patch_seen(pixel_of(i), frames - 1u);
         EXPECT_TRUE(restir::test::agrees_with(stats[i], s.valid ? world().truth[s.id] : 0.0))
             << "pixel " << i;
+    }
+}
+
+TEST_P(UnbiasedRecipe, MeanMatchesTruthAtEveryPixel) {
+    restir::DiFrameParams p = restir::default_di_frame_params();
+    p.temporal_bias_correction = GetParam();
+    p.spatial_bias_correction = GetParam();
+    p.spatial.radius = 2.0f;
+    p.spatial_passes = 2u;
+    expect_unbiased_recipe(p);
+}
+
+// The same with one neighbour draw per 2 and per 3 pixels of a row (pairwise MIS).
+TEST(UnbiasedRecipeSharedDraws, MeanMatchesTruthAtEveryPixel) {
+    for (std::uint32_t span : {2u, 3u}) {
+        SCOPED_TRACE(::testing::Message() << "span " << span);
+        restir::DiFrameParams p = restir::default_di_frame_params();
+        p.spatial.radius = 2.0f;
+        p.spatial_passes = 2u;
+        p.spatial_draw_span = span;
+        expect_unbiased_recipe(p);
     }
 }
 

@@ -290,7 +290,8 @@ requires(std::same_as<History, ImageView<const Reservoir<Sample>>> ||
             auto rng = rng_for(pixel, RngStream::spatial + step.pass);
             Reservoir<Sample> r = input[pixel];
             if (combines_at(pixel))
-                r = spatial_here(pixel, input, bridge, rng);
+                r = spatial_here(pixel, input, bridge,
+                                 neighbour_draw(pixel, step.pass, rng, rng_for), rng);
             retest_immediately(step, pixel, r, input[pixel], bridge.visibility);
             output[pixel] = r;
         } else if constexpr (Stage == DiStage::boiling) {
@@ -389,7 +390,24 @@ requires(std::same_as<History, ImageView<const Reservoir<Sample>>> ||
                Rng& rng, const Lending& lending = {}) const {
         return neighbours(pixel, input, bridge, draw_neighbours(rng), lending);
     }
-    /// `neighbours` with the two numbers drawn ahead (`draw_neighbours`).
+    /// The two numbers that choose the neighbours of `pixel` (inside the image) in spatial pass
+    /// `pass` (`draw_neighbours`): drawn from `rng`, the pixel's generator of the pass, or, with
+    /// `params.spatial_draw_span` > 1 and `pixel` not the first of its span, the first two of
+    /// the pass's generator of the span's first pixel (x - x mod span, y): `rng_for(that
+    /// pixel, RngStream::spatial + pass)`.
+    template <UniformRng Rng, class RngFor>
+    RESTIR_HOST_DEVICE NeighbourDraw neighbour_draw(PixelCoord pixel, std::uint32_t pass, Rng& rng,
+                                                    const RngFor& rng_for) const {
+        RESTIR_ASSERT(pixel.x >= 0);
+        const std::uint32_t span = params.spatial_draw_span;
+        const auto x = static_cast<std::uint32_t>(pixel.x);
+        if (span <= 1u || x % span == 0u)
+            return draw_neighbours(rng);
+        auto first = rng_for(PixelCoord{static_cast<std::int32_t>(x - x % span), pixel.y},
+                             RngStream::spatial + pass);
+        return draw_neighbours(first);
+    }
+    /// `neighbours` with the two numbers drawn ahead (`draw_neighbours`, `neighbour_draw`).
     template <class Bridge, class Lending = IgnoreLending>
     RESTIR_HOST_DEVICE SpatialNeighbours<Sample, S, Surfaces>
     neighbours(PixelCoord pixel, ImageView<const Reservoir<Sample>> input, const Bridge& bridge,
@@ -412,19 +430,19 @@ private:
     // A spatial pass's combination at `pixel`: on a GPU over the streamed neighbours (kept in
     // registers), in host code over those that lend, gathered as they are found.
     template <class Bridge, UniformRng Rng>
-    RESTIR_HOST_DEVICE Reservoir<Sample> spatial_here(PixelCoord pixel,
-                                                      ImageView<const Reservoir<Sample>> input,
-                                                      const Bridge& bridge, Rng& rng) const {
+    RESTIR_HOST_DEVICE Reservoir<Sample>
+    spatial_here(PixelCoord pixel, ImageView<const Reservoir<Sample>> input, const Bridge& bridge,
+                 NeighbourDraw draw, Rng& rng) const {
 #if !defined(__CUDA_ARCH__)
         if constexpr (surfaces_in_array<Surfaces, S>) {
             detail::GatheredInputs<Sample, S> gathered;
             gathered.count = 0u;
-            neighbours(pixel, input, bridge, rng,
+            neighbours(pixel, input, bridge, draw,
                        [&](PixelCoord p) { gathered.add(&input[p], &surfaces[p]); });
             return spatial(pixel, input, gathered, bridge, rng);
         }
 #endif
-        return spatial(pixel, input, neighbours(pixel, input, bridge, rng), bridge, rng);
+        return spatial(pixel, input, neighbours(pixel, input, bridge, draw), bridge, rng);
     }
 
     using LoadedInput = detail::LoadedHistoryInput<Sample, S, history_has_surfaces>;

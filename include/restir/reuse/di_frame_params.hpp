@@ -32,6 +32,12 @@ struct DiFrameParams {
     std::uint32_t spatial_passes = 1u;
     /// Each spatial pass (the paper's k = 3 in 30 px for the unbiased modes).
     SpatialParams spatial = default_spatial_params();
+    /// Pixels along a row that take one neighbour draw in a spatial pass: 1 (each its own, the
+    /// default) or more, where pixel (x, y) reuses from the offsets that pixel (x - x mod
+    /// span, y) draws (`DiFrame::neighbour_draw`). Neighbours of adjacent pixels then lie side
+    /// by side, so a GPU warp's reads of them touch fewer cache lines; each pixel's neighbours
+    /// are still drawn independently of the reservoirs, so the passes stay unbiased.
+    std::uint32_t spatial_draw_span = 1u;
     /// The boiling filter after the spatial passes (biased: off by default).
     bool boiling_filter = false;
     BoilingFilterParams boiling = default_boiling_filter_params();

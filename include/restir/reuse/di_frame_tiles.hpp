@@ -298,7 +298,7 @@ void run_di_step(const DiFrame<Sample, S, Reproject, History, Surfaces>& frame, 
             rngs[k] = rng_for(pixel, RngStream::spatial + step.pass);
             combines[k] = frame.combines_at(pixel);
             if (combines[k])
-                draws[k] = draw_neighbours(rngs[k]);
+                draws[k] = frame.neighbour_draw(pixel, step.pass, rngs[k], rng_for);
         });
         // Not a lambda: GCC deletes calls of functions whose only effects are prefetches.
         for (std::uint32_t k = 0; k < ahead && k < tile.pixel_count(); ++k)
