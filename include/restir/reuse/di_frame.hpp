@@ -383,7 +383,8 @@ requires(std::same_as<History, ImageView<const Reservoir<Sample>>> ||
     }
     /// The neighbours that a spatial pass of `pixel` (which must `combines_at`) reuses from
     /// `input`, the whole output of the step before; `lending(p)` for each that lends, in order.
-    /// Two uniform numbers.
+    /// Two uniform numbers, the pixel's own (`spatial_draw_span` is the recipe's: with a span,
+    /// pass `neighbour_draw`'s draw to the overload below).
     template <class Bridge, UniformRng Rng, class Lending = IgnoreLending>
     RESTIR_HOST_DEVICE SpatialNeighbours<Sample, S, Surfaces>
     neighbours(PixelCoord pixel, ImageView<const Reservoir<Sample>> input, const Bridge& bridge,
@@ -399,7 +400,7 @@ requires(std::same_as<History, ImageView<const Reservoir<Sample>>> ||
     RESTIR_HOST_DEVICE NeighbourDraw neighbour_draw(PixelCoord pixel, std::uint32_t pass, Rng& rng,
                                                     const RngFor& rng_for) const {
         RESTIR_ASSERT(pixel.x >= 0);
-        const std::uint32_t span = params.spatial_draw_span;
+        const std::uint32_t span = params.spatial_draw_span; // 0 counts as 1
         const auto x = static_cast<std::uint32_t>(pixel.x);
         if (span <= 1u || x % span == 0u)
             return draw_neighbours(rng);
