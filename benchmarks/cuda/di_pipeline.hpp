@@ -265,7 +265,7 @@ RESTIR_HOST_DEVICE Reservoir tile_candidates(const Context& c, std::uint32_t x, 
 /// The initial stage's candidates (restir-render's tile_reservoir): batch RIS over the pixel
 /// block's light tile (`tile_candidates<Lanes>`; `Context::lanes` chooses the kernel), or
 /// streaming RIS from the light BVH (`bvh_source`).
-template <std::uint32_t Lanes = restir::tile_group_size>
+template <std::uint32_t Lanes>
 struct InitialCandidates {
     const Context& c;
     RESTIR_HOST_DEVICE Reservoir operator()(restir::PixelCoord pixel, const Texel& s,
