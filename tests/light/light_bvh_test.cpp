@@ -116,11 +116,14 @@ std::vector<restir::LightBvhGrid> group_grids(const restir::LightBvh& bvh) {
 
 // The pmf is positive wherever a point light lights the point, sums to at most one (the rest
 // is the chance that the descent reaches a node none of whose lights reach the point: no
-// light), and the descent's histogram, with "no light" as one more cell, matches it.
-void check_distribution(std::uint32_t light_count, std::uint32_t points, std::uint32_t draws) {
+// light), and the descent's histogram, with "no light" as one more cell, matches it. With the
+// default near-field length (0 for these lights, mostly points) or `near_length`.
+void check_distribution(std::uint32_t light_count, std::uint32_t points, std::uint32_t draws,
+                        float near_length = -1.0f) {
     const std::vector<TestLight> lights = test_lights(light_count, 11u);
     const std::vector<LightBounds> bounds = bounds_of(lights);
-    const restir::LightBvh bvh(bounds);
+    const restir::LightBvh bvh =
+        near_length < 0.0f ? restir::LightBvh(bounds) : restir::LightBvh(bounds, near_length);
     const restir::LightBvhView view = bvh.view();
     ASSERT_EQ(view.light_count(), light_count);
     restir::Pcg32 rng = restir::make_pixel_rng(1u, 0u, 0u, 12u);
@@ -157,6 +160,10 @@ void check_distribution(std::uint32_t light_count, std::uint32_t points, std::ui
 }
 
 TEST(LightBvh, DrawsLightsWithItsPmfAt1kLights) { check_distribution(1000u, 8u, 200000u); }
+
+TEST(LightBvh, DrawsLightsWithItsPmfWithANearFieldLength) {
+    check_distribution(1000u, 8u, 200000u, 1.0f);
+}
 
 TEST(LightBvh, DrawsLightsWithItsPmfAt1MLights) { check_distribution(1u << 20u, 2u, 400000u); }
 
@@ -466,7 +473,8 @@ TEST(LightBvh, PointsNoLightReachesDrawNothing) {
 // children's spheres, and at a child's centre. The lanes weigh their cone axes unnormalised; the
 // bound differs from `light_importance` of the child as `node` reads it back (a unit axis) by
 // rounding alone, at most 1e-5 of power / d^2 (the largest the bound can be; some 170 float
-// ulps of it, where the worst seen is six).
+// ulps of it, where the worst seen is six). With the paper's distance term and with a
+// near-field length (`LightBvhView::near_length`).
 TEST(LightBvh, GroupBoundsEqualEachChildsBound) {
     const std::vector<TestLight> lights = test_lights(5000u, 51u);
     const restir::LightBvh bvh(bounds_of(lights));
@@ -484,25 +492,29 @@ TEST(LightBvh, GroupBoundsEqualEachChildsBound) {
                 at.radius = 2.0f * next_float(rng);
             if (k == 3)
                 at.position = group.node(0u, grid).centre;
-            float bounds[restir::LightBvhGroup::lanes];
-            const float total = group.importance(at, grid, bounds);
-            float sum = 0.0f;
-            for (std::uint32_t c = 0u; c < restir::LightBvhGroup::lanes; ++c) {
-                const float expected = group.bound(c, grid, at);
-                ASSERT_EQ(bounds[c], expected) << "lane " << c << ", point " << k;
-                positive += expected > 0.0f ? 1u : 0u;
-                sum += expected;
-                const restir::LightBvhNode node = group.node(c, grid);
-                const float node_bound = restir::light_importance(node, at);
-                const glm::vec3 to = at.position - node.centre;
-                const double radius = double(node.radius) + double(std::max(at.radius, 0.0f));
-                const double scale =
-                    double(node.power) / std::max(double(glm::dot(to, to)), radius * radius);
-                // An unused lane has no power: both bounds are 0.
-                ASSERT_LE(std::abs(double(node_bound) - double(expected)), 1e-5 * scale)
-                    << "lane " << c << ", point " << k;
+            for (const float near : {0.0f, 0.5f}) {
+                float bounds[restir::LightBvhGroup::lanes];
+                const float total = group.importance(at, grid, bounds, near);
+                float sum = 0.0f;
+                for (std::uint32_t c = 0u; c < restir::LightBvhGroup::lanes; ++c) {
+                    const float expected = group.bound(c, grid, at, near);
+                    ASSERT_EQ(bounds[c], expected) << "lane " << c << ", point " << k;
+                    positive += expected > 0.0f ? 1u : 0u;
+                    sum += expected;
+                    const restir::LightBvhNode node = group.node(c, grid);
+                    const float node_bound = restir::light_importance(node, at, near);
+                    const glm::vec3 to = at.position - node.centre;
+                    const double radius = double(node.radius) + double(std::max(at.radius, 0.0f));
+                    const double near_squared =
+                        near > 0.0f ? radius * double(near) : radius * radius;
+                    const double scale =
+                        double(node.power) / std::max(double(glm::dot(to, to)), near_squared);
+                    // An unused lane has no power: both bounds are 0.
+                    ASSERT_LE(std::abs(double(node_bound) - double(expected)), 1e-5 * scale)
+                        << "lane " << c << ", point " << k << ", near " << near;
+                }
+                ASSERT_EQ(total, sum);
             }
-            ASSERT_EQ(total, sum);
         }
     }
     EXPECT_GT(positive, bvh.groups().size()); // most cases have something to compare

@@ -65,7 +65,7 @@ RESTIR_HOST_DEVICE inline float sine_of(float cosine) noexcept {
 RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE float
 importance_bound(glm::vec3 centre, float node_radius, glm::vec3 axis, float axis_length,
                  float inverse_axis_length, float cos_theta_o, float sin_theta_o, float cos_theta_e,
-                 float power, const ShadingPoint& at) noexcept {
+                 float power, const ShadingPoint& at, float near_length = 0.0f) noexcept {
     // For a region (at.radius > 0) the node's sphere grows by the region's radius: every
     // direction from a point of the region to a point of the node lies within theta_b of the
     // direction between their centres.
@@ -74,6 +74,15 @@ importance_bound(glm::vec3 centre, float node_radius, glm::vec3 axis, float axis
     const float distance_squared = glm::dot(from_centre, from_centre);
     const float radius_squared = radius * radius;
     const float falloff = 1.0f / max_of(distance_squared, radius_squared);
+    // The distance term before the cosines: 1 / max(d^2, r l) with a near-field length l > 0
+    // (`LightBvhView::near_length`), else 1 / max(d^2, r^2). Between the two, a node far larger
+    // than l keeps the distance to its centre when the point is inside its sphere (the lights
+    // near the point weigh more than those across the node), and a node far smaller than l
+    // stops growing as 1 / d^2 a few of its radii away (a light beside the point, whose
+    // cosines the sphere cannot bound, no longer takes the draws of the lights that light it).
+    const float near_squared =
+        select_float(near_length > 0.0f, radius * near_length, radius_squared);
+    const float near_falloff = 1.0f / max_of(distance_squared, near_squared);
     // Outside the sphere every cosine and sine below is kept times d (a product of two, times
     // d^2): cos(theta_w) d is the projection on the axis and sin(theta_w) d = sqrt(d^2 -
     // projection^2). A descent waits on this bound at every level, and the scaled terms need no
@@ -108,10 +117,11 @@ importance_bound(glm::vec3 centre, float node_radius, glm::vec3 axis, float axis
         select_float(cos_i > cos_b, distance_squared, cos_i * cos_b + sin_i * sin_b);
     const bool has_normal = at.normal.x != 0.0f || at.normal.y != 0.0f || at.normal.z != 0.0f;
     const float receiver = select_float(has_normal, max_of(cos_received * falloff, 0.0f), 1.0f);
-    const float outside = select_float(cos_emitted > cos_theta_e * distance_squared,
-                                       power * falloff * (cos_emitted * falloff) * receiver, 0.0f);
+    const float outside =
+        select_float(cos_emitted > cos_theta_e * distance_squared,
+                     power * near_falloff * (cos_emitted * falloff) * receiver, 0.0f);
     // Inside the sphere (theta_b = pi) both cosines are 1.
-    const float inside = select_float(1.0f > cos_theta_e, power * falloff, 0.0f);
+    const float inside = select_float(1.0f > cos_theta_e, power * near_falloff, 0.0f);
     const float importance = select_float(distance_squared <= radius_squared, inside, outside);
     return select_float(is_valid_weight(importance), importance, 0.0f);
 }
@@ -125,12 +135,13 @@ importance_bound(glm::vec3 centre, float node_radius, glm::vec3 axis, float axis
 /// theta' >= theta_e: no light of the node reaches the point), and theta'_i = max(0, theta_i -
 /// theta_b) with theta_i between the receiver normal and the direction to the centre (no
 /// receiver term for a zero normal). Never 0 where a light of the node lights the point (any
-/// point of a region `at`).
-RESTIR_HOST_DEVICE inline float light_importance(const LightBvhNode& node,
-                                                 const ShadingPoint& at) noexcept {
+/// point of a region `at`). With a `near_length` l > 0 the leading 1 / d^2 is 1 / max(d^2, r l)
+/// instead, r the half diagonal (`LightBvhView::near_length`: what a light BVH draws with).
+RESTIR_HOST_DEVICE inline float light_importance(const LightBvhNode& node, const ShadingPoint& at,
+                                                 float near_length = 0.0f) noexcept {
     return detail::importance_bound(node.centre, node.radius, node.axis, 1.0f, 1.0f,
                                     node.cos_theta_o, node.sin_theta_o, node.cos_theta_e,
-                                    node.power, at);
+                                    node.power, at, near_length);
 }
 
 /// A box: what `LightBvhGroup::box` returns.
@@ -312,8 +323,8 @@ struct alignas(64) LightBvhGroup {
     /// The importance bounds of the children at `at` (`light_importance` of each `node`, their
     /// boxes on `grid`), and their sum, added lane by lane.
     RESTIR_HOST_DEVICE float importance(const ShadingPoint& at, const LightBvhGrid& grid,
-                                        float (&out)[lanes]) const {
-        bounds(at, grid, out);
+                                        float (&out)[lanes], float near_length = 0.0f) const {
+        bounds(at, grid, out, near_length);
         float total = 0.0f;
         RESTIR_UNROLL
         for (std::uint32_t c = 0u; c < lanes; ++c)
@@ -322,21 +333,24 @@ struct alignas(64) LightBvhGroup {
     }
     /// The importance bounds alone (what `importance` writes to `out`). Inlined by force: a
     /// descent waits on them at every level, and a call passes them through memory.
-    RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE void
-    bounds(const ShadingPoint& at, const LightBvhGrid& grid, float (&out)[lanes]) const;
+    RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE void bounds(const ShadingPoint& at,
+                                                       const LightBvhGrid& grid,
+                                                       float (&out)[lanes],
+                                                       float near_length = 0.0f) const;
     /// Lane `lane`'s bound alone, as device code evaluates each lane of `bounds` (host code
     /// computes all eight side by side, the same numbers).
     RESTIR_HOST_DEVICE float bound(std::uint32_t lane, const LightBvhGrid& grid,
-                                   const ShadingPoint& at) const {
+                                   const ShadingPoint& at, float near_length = 0.0f) const {
         glm::vec3 centre;
         float radius;
         decode(lane, grid, centre, radius);
         const detail::OctahedralAxis axis = detail::octahedral_direction_of(
             static_cast<float>(axis_u[lane]), static_cast<float>(axis_v[lane]));
-        return detail::importance_bound(
-            centre, radius, axis.direction, axis.length, axis.inverse_length,
-            detail::cone_cos(cone[lane]), detail::cone_sin(cone[lane]),
-            detail::emission_cos(emission[lane]), detail::bfloat16_value(power[lane]), at);
+        return detail::importance_bound(centre, radius, axis.direction, axis.length,
+                                        axis.inverse_length, detail::cone_cos(cone[lane]),
+                                        detail::cone_sin(cone[lane]),
+                                        detail::emission_cos(emission[lane]),
+                                        detail::bfloat16_value(power[lane]), at, near_length);
     }
 
 private:
@@ -363,8 +377,10 @@ private:
 static_assert(std::is_trivially_copyable_v<LightBvhGroup>);
 static_assert(sizeof(LightBvhGroup) == 16u * LightBvhGroup::lanes);
 
-RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE void
-LightBvhGroup::bounds(const ShadingPoint& at, const LightBvhGrid& grid, float (&out)[lanes]) const {
+RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE void LightBvhGroup::bounds(const ShadingPoint& at,
+                                                                  const LightBvhGrid& grid,
+                                                                  float (&out)[lanes],
+                                                                  float near_length) const {
     // The fields decoded and spelled out rather than light_importance(node(c, grid), at): that
     // spelling vectorised less reliably and made batch draws slower (docs/performance.md,
     // "Measured and rejected"). This loop is a draw's inner cost; check BM_LightBvh_SampleBatch
@@ -372,7 +388,7 @@ LightBvhGroup::bounds(const ShadingPoint& at, const LightBvhGrid& grid, float (&
 #if defined(__CUDA_ARCH__)
     RESTIR_UNROLL
     for (std::uint32_t c = 0u; c < lanes; ++c)
-        out[c] = bound(c, grid, at);
+        out[c] = bound(c, grid, at, near_length);
 #else
     // On a CPU the codes are widened to floats first (exactly), and the bounds computed from
     // floats alone: GCC vectorises a loop that reads bytes in as many lanes as bytes fill a
@@ -381,6 +397,7 @@ LightBvhGroup::bounds(const ShadingPoint& at, const LightBvhGrid& grid, float (&
     // kept it from vectorising too. The same numbers as the device's loop, bit for bit.
     const LightBvhGrid g = grid;
     const ShadingPoint p = at;
+    const float near = near_length;
     float low[3][lanes], high[3][lanes], u[lanes], v[lanes], cone_code[lanes], emission_code[lanes],
         power_value[lanes];
 #if RESTIR_STD_SIMD
@@ -433,7 +450,7 @@ LightBvhGroup::bounds(const ShadingPoint& at, const LightBvhGrid& grid, float (&
         out[c] = detail::importance_bound(
             centre, radius, axis.direction, axis.length, axis.inverse_length,
             detail::cone_cos_of(cone_code[c]), detail::cone_sin_of(cone_code[c]),
-            detail::emission_cos_of(emission_code[c]), power_value[c], p);
+            detail::emission_cos_of(emission_code[c]), power_value[c], p, near);
     }
 #endif
 }

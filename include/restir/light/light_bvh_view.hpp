@@ -59,6 +59,11 @@ struct LightBvhView {
     /// The root's box: group 0's children are stored on its grid (`LightBvhGrid::over`).
     glm::vec3 root_lower{0.0f};
     glm::vec3 root_upper{0.0f};
+    /// The near-field length l of the importance bounds (`light_importance`): a node's
+    /// 1 / d^2 is 1 / max(d^2, r l), r its half diagonal; 0 keeps Conty Estevez and Kulla's
+    /// 1 / max(d^2, r^2). `LightBvh` sets 16 times the median light's half diagonal, which
+    /// took the many-light scene's heavy tails away (docs/noise-and-bias.md, "Heavy tails").
+    float near_length = 0.0f;
 
     static constexpr std::uint32_t depth_shift = 58u;
     /// The most groups a path passes (`LightBvhGroup::lane_bits` bits each below
@@ -120,7 +125,7 @@ struct LightBvhView {
         for (std::uint32_t level = 0u; level < depth; ++level) {
             const LightBvhGroup& g = groups[group];
             float importance[arity];
-            g.bounds(at, grid, importance);
+            g.bounds(at, grid, importance, near_length);
             const float total = detail::pairwise_total(importance);
             if (!(total > 0.0f))
                 return 0.0f;
@@ -210,7 +215,7 @@ private:
     RESTIR_HOST_DEVICE void weigh(const ShadingPoint& at, const Descent& d, Weights& w) const {
         const LightBvhGroup& g = groups[d.group];
         prefetch_children(g);
-        g.bounds(at, d.grid, w.importance);
+        g.bounds(at, d.grid, w.importance, near_length);
 #if RESTIR_LIGHT_BVH_LANE_GRIDS
         // Every lane's grid side by side, while the bounds compute: the chosen one is then a
         // load rather than a chain of operations before the next level can start.
