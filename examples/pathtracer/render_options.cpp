@@ -208,6 +208,24 @@ struct ReuseFlags {
 // reuse flags through `flags`).
 void add_light_sampling_options(CLI::App& app, RenderSettings& settings, ReuseFlags& flags) {
     restir::DiFrameParams& frame = settings.di_frame;
+    // Defined before the flags it sets: CLI11 stores the options' values in the order they are
+    // defined, so that a reuse flag given beside --preset changes the preset's value.
+    app.add_option_function<restir::DiFramePreset>(
+           "--preset",
+           [&settings, &flags](restir::DiFramePreset preset) {
+               settings.di_frame = RenderSettings::di_frame_settings(preset);
+               flags = ReuseFlags{};
+               flags.mis_rays = preset != restir::DiFramePreset::fast;
+           },
+           "ReSTIR's reuse settings (docs/noise-and-bias.md, \"Presets\"): unbiased (the "
+           "defaults: 5 neighbours, history cap 4 with permutation sampling), balanced "
+           "(unbiased: 3 neighbours, cap 20 without permutation; less error a frame, a running "
+           "mean that converges slower) or fast (balanced without MIS rays, slightly biased); "
+           "the reuse flags below change it")
+        ->transform(names<restir::DiFramePreset>({{"unbiased", restir::DiFramePreset::unbiased},
+                                                  {"balanced", restir::DiFramePreset::balanced},
+                                                  {"fast", restir::DiFramePreset::fast}}))
+        ->default_str("unbiased");
     app.add_option("--candidates", settings.candidates,
                    "RIS candidates per pixel (M; 0: 4 from the light BVH, 32 from tiles or grid)")
         ->check(CLI::Range(0u, 4096u));

@@ -105,19 +105,21 @@ struct RenderSettings {
     /// estimate the same image).
     bool environment_nee = true;
 
-    /// The library's frame recipe with restir-render's defaults: 5 neighbours, a spatial
-    /// radius of 0 (the renderer makes it 20 px per 1080 rows, two thirds of the paper's 30 at
-    /// 1080p, at least 3), a history cap of 4 with permutation sampling (for the accumulated image:
-    /// the paper's cap of 20 without permutation made consecutive frames so alike that averaging
-    /// them gained little, docs/noise-and-bias.md), and the boiling filter off with a
-    /// threshold of 0 (it removes energy, so it is biased). The renderer runs it per 8 x 8
-    /// tile, each stage's rays traced as Embree packets.
+    /// The library's frame recipe with restir-render's defaults: the unbiased preset
+    /// (restir::DiFramePreset::unbiased: 5 neighbours, a history cap of 4 with permutation
+    /// sampling, for the accumulated image as well as the frame: the paper's cap of 20 without
+    /// permutation made consecutive frames so alike that averaging them gained little,
+    /// docs/noise-and-bias.md) with a spatial radius of 0 (the renderer makes it 20 px per 1080
+    /// rows, two thirds of the paper's 30 at 1080p, at least 3), and the boiling filter off with
+    /// a threshold of 0 (it removes energy, so it is biased). The renderer runs it per 8 x 8
+    /// tile, each stage's rays traced as Embree packets. `--preset` picks another preset.
     static restir::DiFrameParams default_di_frame_settings() {
-        restir::DiFrameParams p = restir::default_di_frame_params();
-        p.spatial.neighbour_count = 5;
+        return di_frame_settings(restir::DiFramePreset::unbiased);
+    }
+    /// `preset`'s frame with the renderer's radius (0: by the image height) and no boiling.
+    static restir::DiFrameParams di_frame_settings(restir::DiFramePreset preset) {
+        restir::DiFrameParams p = restir::di_frame_preset(preset);
         p.spatial.radius = 0.0f;
-        p.temporal.history_cap_multiplier = 4;
-        p.temporal.permutation_sampling = true;
         p.boiling.threshold = 0.0f;
         return p;
     }

@@ -1,6 +1,7 @@
 // restir-render's command line: bad input gives one line on stderr and exit status 2, never a
 // crash; good input writes the image and the CSV.
 #include "image_io.hpp"
+#include "render_options.hpp"
 #include "renderer.hpp"
 
 #include "scratch_dir.hpp"
@@ -14,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -441,6 +443,49 @@ TEST(Cli, RendersRestirGi) {
         EXPECT_NE(r.out.find(", indirect "), std::string::npos) << r.out;
         EXPECT_TRUE(fs::exists(frame)) << scene;
     }
+}
+
+// The reuse settings restir-render parses from `arguments` (after the program's name).
+restir::DiFrameParams frame_from_command_line(const std::vector<const char*>& arguments) {
+    std::vector<const char*> argv{"restir-render"};
+    argv.insert(argv.end(), arguments.begin(), arguments.end());
+    std::string help;
+    const std::optional<pt::RenderOptions> options =
+        pt::parse_render_options(static_cast<int>(argv.size()), argv.data(), help);
+    EXPECT_TRUE(options.has_value());
+    return options ? options->settings.di_frame : restir::DiFrameParams{};
+}
+
+// --preset sets the library's preset (the default: unbiased), and a reuse flag beside it, before
+// or after it on the line, changes that one setting.
+TEST(Cli, PresetsAreTheLibrarysAndFlagsChangeThem) {
+    const restir::DiFrameParams defaults = frame_from_command_line({});
+    const restir::DiFrameParams unbiased = frame_from_command_line({"--preset", "unbiased"});
+    for (const restir::DiFrameParams& p : {defaults, unbiased}) {
+        EXPECT_EQ(p.spatial.neighbour_count, 5u);
+        EXPECT_EQ(p.temporal.history_cap_multiplier, 4u);
+        EXPECT_TRUE(p.temporal.permutation_sampling);
+        EXPECT_EQ(p.visibility, restir::ReuseVisibility::traced);
+        EXPECT_EQ(p.spatial_bias_correction, restir::BiasCorrection::pairwise);
+        EXPECT_EQ(p.spatial.radius, 0.0f); // by the image height
+    }
+    const restir::DiFrameParams balanced = frame_from_command_line({"--preset", "balanced"});
+    EXPECT_EQ(balanced.spatial.neighbour_count, 3u);
+    EXPECT_EQ(balanced.temporal.history_cap_multiplier, 20u);
+    EXPECT_FALSE(balanced.temporal.permutation_sampling);
+    EXPECT_EQ(balanced.visibility, restir::ReuseVisibility::traced);
+    const restir::DiFrameParams fast = frame_from_command_line({"--preset", "fast"});
+    EXPECT_EQ(fast.visibility, restir::ReuseVisibility::assumed);
+    EXPECT_EQ(fast.spatial.neighbour_count, 3u);
+    for (const auto& arguments : std::vector<std::vector<const char*>>{
+             {"--preset", "fast", "--neighbours", "4", "--mis-rays", "true"},
+             {"--neighbours", "4", "--mis-rays", "true", "--preset", "fast"}}) {
+        const restir::DiFrameParams changed = frame_from_command_line(arguments);
+        EXPECT_EQ(changed.spatial.neighbour_count, 4u);
+        EXPECT_EQ(changed.visibility, restir::ReuseVisibility::traced);
+        EXPECT_EQ(changed.temporal.history_cap_multiplier, 20u);
+    }
+    expect_one_line_error(small("--preset fastest"), "--preset");
 }
 
 } // namespace

@@ -566,6 +566,41 @@ TEST(UnbiasedRecipeSharedDraws, MeanMatchesTruthAtEveryPixel) {
     }
 }
 
+// The unbiased presets (restir::DiFramePreset; the radius made the synthetic image's). The
+// fast preset assumes visibility in its weights and is biased near shadows by design.
+TEST(UnbiasedRecipePresets, MeanMatchesTruthAtEveryPixel) {
+    for (const restir::DiFramePreset preset :
+         {restir::DiFramePreset::unbiased, restir::DiFramePreset::balanced}) {
+        SCOPED_TRACE(::testing::Message() << "preset " << static_cast<int>(preset));
+        restir::DiFrameParams p = restir::di_frame_preset(preset);
+        p.spatial.radius = 2.0f;
+        expect_unbiased_recipe(p);
+    }
+}
+
+// What each preset changes of the paper's settings.
+TEST(DiFramePresets, ChangeOnlyWhatTheyName) {
+    const restir::DiFrameParams paper = restir::default_di_frame_params();
+    const restir::DiFrameParams unbiased = restir::di_frame_preset(restir::DiFramePreset::unbiased);
+    EXPECT_EQ(unbiased.spatial.neighbour_count, 5u);
+    EXPECT_EQ(unbiased.temporal.history_cap_multiplier, 4u);
+    EXPECT_TRUE(unbiased.temporal.permutation_sampling);
+    EXPECT_EQ(unbiased.visibility, paper.visibility);
+    const restir::DiFrameParams balanced = restir::di_frame_preset(restir::DiFramePreset::balanced);
+    EXPECT_EQ(balanced.spatial.neighbour_count, paper.spatial.neighbour_count);
+    EXPECT_EQ(balanced.temporal.history_cap_multiplier, paper.temporal.history_cap_multiplier);
+    EXPECT_EQ(balanced.temporal.permutation_sampling, paper.temporal.permutation_sampling);
+    EXPECT_EQ(balanced.visibility, restir::ReuseVisibility::traced);
+    const restir::DiFrameParams fast = restir::di_frame_preset(restir::DiFramePreset::fast);
+    EXPECT_EQ(fast.visibility, restir::ReuseVisibility::assumed);
+    EXPECT_EQ(fast.spatial.neighbour_count, balanced.spatial.neighbour_count);
+    for (const restir::DiFrameParams& p : {unbiased, balanced, fast}) {
+        EXPECT_EQ(p.spatial_bias_correction, BiasCorrection::pairwise);
+        EXPECT_EQ(p.temporal_bias_correction, BiasCorrection::pairwise);
+        EXPECT_FALSE(p.boiling_filter);
+    }
+}
+
 std::string mode_name(const ::testing::TestParamInfo<BiasCorrection>& param) {
     const char* const names[] = {"none", "one_over_z", "balance_heuristic", "pairwise"};
     return names[static_cast<int>(param.param)];

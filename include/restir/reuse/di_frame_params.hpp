@@ -1,7 +1,7 @@
 /// @file reuse/di_frame_params.hpp
 /// The settings of a ReSTIR DI frame (reuse/di_frame.hpp): visibility reuse, the bias
 /// corrections, the temporal and spatial passes and the boiling filter, with the paper's
-/// defaults.
+/// defaults, and named presets that trade among error, bias and time.
 #pragma once
 
 #include "restir/config.hpp"
@@ -46,5 +46,33 @@ struct DiFrameParams {
 /// The paper's settings: pairwise MIS with visibility reuse and traced MIS rays, temporal reuse
 /// with a history cap of 20, one spatial pass of 3 neighbours in 30 pixels.
 RESTIR_HOST_DEVICE constexpr DiFrameParams default_di_frame_params() noexcept { return {}; }
+
+/// Named settings of a frame, each a measured trade (docs/noise-and-bias.md, "Presets").
+enum class DiFramePreset : std::uint8_t {
+    /// Unbiased, for the frame and for the running mean of frames: pairwise MIS with traced
+    /// MIS rays, 5 neighbours, a history cap of 4 with permutation sampling (consecutive frames
+    /// less alike, so that their mean converges faster). restir-render's defaults.
+    unbiased,
+    /// Unbiased, for the frame alone: 3 neighbours and the paper's cap of 20 without
+    /// permutation, less error a frame for less time; the running mean converges slower.
+    balanced,
+    /// Biased, for speed: as `balanced`, with MIS weights that assume every sample visible
+    /// (`ReuseVisibility::assumed`: no ray in reuse; a little light lost or gained near shadow
+    /// boundaries).
+    fast,
+};
+
+/// The settings of `preset` (spatial radius: the paper's 30 pixels; scale it with the image).
+RESTIR_HOST_DEVICE constexpr DiFrameParams di_frame_preset(DiFramePreset preset) noexcept {
+    DiFrameParams p = default_di_frame_params();
+    if (preset == DiFramePreset::unbiased) {
+        p.spatial.neighbour_count = 5u;
+        p.temporal.history_cap_multiplier = 4u;
+        p.temporal.permutation_sampling = true;
+    }
+    if (preset == DiFramePreset::fast)
+        p.visibility = ReuseVisibility::assumed;
+    return p;
+}
 
 } // namespace restir
