@@ -45,7 +45,8 @@ public:
         : source_(std::move(source)), counts_{settings.candidates, settings.bsdf_candidates},
           rays_(rays), lights_(lights), ray_offset_(ray_offset),
           everywhere_(settings.environment_sampling == EnvironmentSampling::bsdf &&
-                      lights.lights().environment_count() > 0u) {}
+                      lights.lights().environment_count() > 0u),
+          from_receiver_(settings.light_points == LightPoints::solid_angle) {}
 
     void use_light_set() override { source_->use_light_set(); }
     void prepare_frame(std::uint32_t frame_index, std::span<const GSurface> surfaces) override {
@@ -60,6 +61,12 @@ public:
         const restir::ShadingPoint at{s.position, s.normal, 0.0f};
         const restir::GlossyReceiver receiver = glossy_receiver(s); // as p-hat and shading see it
         const EmitterHits hits{&rays_, &lights_.lights(), s.normal, ray_offset_};
+        // --light-points solid-angle: the light candidates' points drawn from the pixel, and
+        // the BSDF candidates weighed against that map's density.
+        if (from_receiver_)
+            return restir::resample_lights_and_bsdf<target_norm,
+                                                    restir::LightPoints::from_receiver>(
+                rng, counts_, sampler, at, lights_.lights(), lights_.falloff(), receiver, hits);
         return restir::resample_lights_and_bsdf<target_norm>(
             rng, counts_, sampler, at, lights_.lights(), lights_.falloff(), receiver, hits);
     }
@@ -75,6 +82,7 @@ private:
     // --env-sampling bsdf: BSDF candidates at diffuse pixels too (cosine-weighted), the only
     // way to the environment.
     bool everywhere_;
+    bool from_receiver_;
 };
 
 } // namespace

@@ -78,6 +78,14 @@ public:
         s.is_delta = false;
         return s;
     }
+    /// The density per unit area with which `sample_point(id, uv, from)` returns `point`, a
+    /// point of emitter `id` (restir::ReceiverLightDensity: BSDF candidates' MIS weights).
+    float point_pdf(std::uint32_t id, glm::vec3 point, glm::vec3 from) const {
+        const Emitter& e = triangles_[id];
+        return restir::solid_angle_to_area_pdf(
+            restir::triangle_pdf_from(from, e.a, e.a + e.ab, e.a + e.ac, point), from, point,
+            e.normal);
+    }
     /// The share of emitter `id`'s area above the plane through `position` with normal
     /// `normal`: where a surface there sees it.
     float area_fraction_above(std::uint32_t id, glm::vec3 position, glm::vec3 normal) const {

@@ -204,12 +204,10 @@ struct ReuseFlags {
     }
 };
 
-// The candidates and the ReSTIR frame's reuse, straight into the library's parameters (the
-// reuse flags through `flags`).
-void add_light_sampling_options(CLI::App& app, RenderSettings& settings, ReuseFlags& flags) {
-    restir::DiFrameParams& frame = settings.di_frame;
-    // Defined before the flags it sets: CLI11 stores the options' values in the order they are
-    // defined, so that a reuse flag given beside --preset changes the preset's value.
+// --preset, the library's reuse presets, into `settings` and `flags`. Defined before the reuse
+// flags: CLI11 stores the options' values in the order they are defined, so that a reuse flag
+// given beside --preset changes the preset's value.
+void add_preset_option(CLI::App& app, RenderSettings& settings, ReuseFlags& flags) {
     app.add_option_function<restir::DiFramePreset>(
            "--preset",
            [&settings, &flags](restir::DiFramePreset preset) {
@@ -226,6 +224,12 @@ void add_light_sampling_options(CLI::App& app, RenderSettings& settings, ReuseFl
                                                   {"balanced", restir::DiFramePreset::balanced},
                                                   {"fast", restir::DiFramePreset::fast}}))
         ->default_str("unbiased");
+}
+
+// The candidates and the ReSTIR frame's reuse, straight into the library's parameters (the
+// reuse flags through `flags`).
+void add_light_sampling_options(CLI::App& app, RenderSettings& settings, ReuseFlags& flags) {
+    restir::DiFrameParams& frame = settings.di_frame;
     app.add_option("--candidates", settings.candidates,
                    "RIS candidates per pixel (M; 0: 4 from the light BVH, 32 from tiles or grid)")
         ->check(CLI::Range(0u, 4096u));
@@ -400,6 +404,7 @@ std::optional<RenderOptions> parse_render_options(int argc, const char* const* a
     add_camera_options(app, options);
     add_output_options(app, options);
     ReuseFlags reuse_flags;
+    add_preset_option(app, settings, reuse_flags);
     add_light_sampling_options(app, settings, reuse_flags);
     add_light_point_options(app, settings);
     add_glossy_options(app, settings);

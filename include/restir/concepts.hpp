@@ -142,6 +142,19 @@ concept ReceiverLightSet = LightSet<L> &&
     { lights.sample_point(id, uv, from) } -> LightPoint;
 };
 
+/// A receiver light set that also gives the density of its receiver's map at a point, so
+/// that another strategy's candidate (a BSDF ray's hit) can be weighed against it by MIS.
+/// Required expression, besides those of `ReceiverLightSet`, for `glm::vec3 point, from`:
+///   `lights.point_pdf(id, point, from)` -> float: the density per unit area with which
+///        `sample_point(id, uv, from)` returns `point` (a point of light `id`) for uniform uv,
+///        as its `area_pdf` gives it; per steradian for a distant light's direction `point`.
+///        Delta lights may return anything: no ray hits them.
+template <class L>
+concept ReceiverLightDensity = ReceiverLightSet<L> &&
+    requires(const L& lights, std::uint32_t id, glm::vec3 point, glm::vec3 from) {
+    { lights.point_pdf(id, point, from) } -> std::convertible_to<float>;
+};
+
 /// Visibility between two points. Required expression:
 ///   `query.occluded(from, to)` -> bool, true when anything blocks the open segment
 ///   (the caller offsets the end points off their surfaces).

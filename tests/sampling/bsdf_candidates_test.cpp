@@ -110,7 +110,8 @@ glm::dvec3 truth(const TwoLights& lights, const R& receiver, bool with_point, in
 
 // The mean of f(y) W over 40000 independent reservoirs of resample_lights_and_bsdf at
 // `receiver`, per channel, f shaded with `visible(sample)`, against `exact`: within 4 SE.
-template <class Lights, class Query, class R, class Visible>
+template <restir::LightPoints Points = restir::LightPoints::area, class Lights, class Query,
+          class R, class Visible>
 void expect_mean(const Lights& lights, const Query& query, const R& receiver,
                  restir::CandidateCounts counts, const Visible& visible, glm::dvec3 exact,
                  const std::string& label) {
@@ -121,7 +122,7 @@ void expect_mean(const Lights& lights, const Query& query, const R& receiver,
     for (std::uint32_t t = 0; t < trials; ++t) {
         restir::Pcg32 rng = restir::make_pixel_rng(t, 0u, 0u, 7u);
         const restir::Reservoir<restir::LightPointSample> r =
-            restir::resample_lights_and_bsdf<restir::ChannelNorm::euclidean>(
+            restir::resample_lights_and_bsdf<restir::ChannelNorm::euclidean, Points>(
                 rng, counts, sampler, at, lights, restir::Falloff::exact(), receiver, query);
         const glm::vec3 estimate =
             r.has_sample() && visible(r.sample)
@@ -266,6 +267,60 @@ TEST(BsdfCandidates, UnbiasedWithASkyBesideAreaAndPointLights) {
         const std::string name = "roughness " + std::to_string(roughness);
         expect_unbiased_with_sky(lights, glossy, {8u, 0u}, name + ", lights only");
         expect_unbiased_with_sky(lights, glossy, {4u, 2u}, name + ", lights and BSDF");
+    }
+}
+
+} // namespace
+
+namespace {
+
+// TwoLights whose rectangle also draws its points from a receiver, uniform in the solid angle
+// it subtends (restir::sample_rectangle_from), with that map's density per unit area
+// (`ReceiverLightDensity`).
+struct TwoLightsFromReceiver : TwoLights {
+    using TwoLights::sample_point;
+    restir::LightSample sample_point(std::uint32_t id, glm::vec2 uv, glm::vec3 from) const {
+        restir::LightSample p = TwoLights::sample_point(id, uv);
+        if (id == 0u) {
+            const restir::SolidAngleSample s =
+                restir::sample_rectangle_from(from, corner, edge0, edge1, uv);
+            p.position = s.point;
+            p.area_pdf = restir::solid_angle_to_area_pdf(s.pdf, from, s.point, normal());
+        }
+        return p;
+    }
+    float point_pdf(std::uint32_t id, glm::vec3 on_light, glm::vec3 from) const {
+        if (id != 0u)
+            return 1.0f;
+        return restir::solid_angle_to_area_pdf(
+            restir::rectangle_pdf_from(from, corner, edge0, edge1, on_light), from, on_light,
+            normal());
+    }
+};
+static_assert(restir::ReceiverLightDensity<TwoLightsFromReceiver>);
+static_assert(!restir::ReceiverLightDensity<TwoLights>);
+
+// Light points drawn from the receiver, combined with BSDF candidates by MIS in the measure the
+// light strategy sampled (LightPoints::from_receiver): unbiased at diffuse and glossy
+// receivers, near the light too, where area points make the candidates' weights unbounded.
+TEST(BsdfCandidates, UnbiasedWithLightPointsDrawnFromTheReceiver) {
+    TwoLightsFromReceiver lights;
+    constexpr auto from_receiver = restir::LightPoints::from_receiver;
+    const auto always = [](const restir::LightPointSample&) { return true; };
+    for (const float height : {0.0f, 0.9f}) { // the light 1 and 0.1 above the receiver
+        const std::string at = "height " + std::to_string(height);
+        const CosineReceiver diffuse{{0.1f, height, 0.2f}, {0.0f, 1.0f, 0.0f}, {0.7f, 0.5f, 0.3f}};
+        const glm::dvec3 exact = truth(lights, diffuse, true, 1024);
+        expect_mean<from_receiver>(lights, RectangleQuery{&lights}, diffuse, {8u, 0u}, always,
+                                   exact, at + ", diffuse, lights only");
+        expect_mean<from_receiver>(lights, RectangleQuery{&lights}, diffuse, {4u, 2u}, always,
+                                   exact, at + ", diffuse, lights and BSDF");
+        const glm::vec3 wo = glm::normalize(glm::vec3(-0.6f, 1.0f, -0.1f));
+        restir::GlossyReceiver glossy{{0.1f, height, 0.2f}, {0.0f, 1.0f, 0.0f}, wo, {}};
+        glossy.bsdf = restir::GlossyBsdf::from_metallic_roughness({0.8f, 0.6f, 0.4f}, 0.5f, 0.2f);
+        expect_mean<from_receiver>(lights, RectangleQuery{&lights}, glossy, {4u, 2u}, always,
+                                   truth(lights, glossy, true, 1024),
+                                   at + ", glossy, lights and BSDF");
     }
 }
 

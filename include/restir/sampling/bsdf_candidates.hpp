@@ -83,6 +83,34 @@ RESTIR_HOST_DEVICE float bsdf_light_pdf(const R& receiver, const LightPointSampl
 }
 } // namespace detail
 
+/// How `resample_lights_and_bsdf` draws a light candidate's point on its light.
+enum class LightPoints : std::uint8_t {
+    /// `lights.sample_point(id, uv)`: uniform in area, as the light set maps uv.
+    area,
+    /// `lights.sample_point(id, uv, from)` from the receiver (uniform in the solid angle the
+    /// light subtends, say; `ReceiverLightDensity`): bounded candidates next to a light. A BSDF
+    /// candidate's light-strategy density is then `lights.point_pdf(id, point, from)`.
+    from_receiver,
+};
+
+namespace detail {
+/// The light strategy's density per unit area (per steradian for a distant light) of the point
+/// a BSDF ray found, with points drawn as `Points` says.
+template <LightPoints Points, class Lights>
+RESTIR_HOST_DEVICE float light_point_pdf(const Lights& lights, const LightHit& hit,
+                                         glm::vec3 from) {
+    if constexpr (Points == LightPoints::from_receiver) {
+        const float pdf =
+            static_cast<float>(lights.point_pdf(hit.light_id, hit.point.position, from));
+        return is_valid_weight(pdf) ? pdf : 0.0f;
+    } else {
+        (void)lights;
+        (void)from;
+        return static_cast<float>(hit.point.area_pdf);
+    }
+}
+} // namespace detail
+
 /// Multi-strategy RIS over `counts.light` light candidates (a light from `sampler` at `at`, a
 /// uniform uv on it, `lights.sample_point`) and `counts.bsdf` BSDF candidates (a direction from
 /// `receiver`, the light it hits from `query`), with the balance heuristic over candidate counts
@@ -103,12 +131,20 @@ RESTIR_HOST_DEVICE float bsdf_light_pdf(const R& receiver, const LightPointSampl
 /// any reservoir. A hit's `point.area_pdf` must be positive (an emitter that the light set
 /// cannot sample is not supported).
 /// Uses 3 + 2 numbers per light candidate, 3 per BSDF candidate, 1 per candidate to stream.
-template <ChannelNorm Norm = ChannelNorm::sum, UniformRng Rng, ContextLightSampler Sampler,
-          LightSet Lights, SamplingReceiver R, LightHitQuery Query>
-RESTIR_HOST_DEVICE Reservoir<LightPointSample>
-resample_lights_and_bsdf(Rng& rng, const CandidateCounts& counts, const Sampler& sampler,
-                         const ShadingPoint& at, const Lights& lights, const Falloff& falloff,
-                         const R& receiver, const Query& query) {
+///
+/// With `Points` = `LightPoints::from_receiver` a light candidate's point comes from
+/// `lights.sample_point(id, uv, from)` (`from` the receiver's position) and p_light(x) =
+/// pmf(light at `at`) `lights.point_pdf(id, x, from)`, the density of the map the light strategy
+/// sampled, for the BSDF candidates' weights too; the stored samples keep the light set's
+/// intensity (radiance / area_pdf of their own point), which cancels in p-hat W as before.
+template <ChannelNorm Norm = ChannelNorm::sum, LightPoints Points = LightPoints::area,
+          UniformRng Rng, ContextLightSampler Sampler, LightSet Lights, SamplingReceiver R,
+          LightHitQuery Query>
+requires(Points == LightPoints::area || ReceiverLightDensity<Lights>)
+    RESTIR_HOST_DEVICE Reservoir<LightPointSample> resample_lights_and_bsdf(
+        Rng& rng, const CandidateCounts& counts, const Sampler& sampler, const ShadingPoint& at,
+        const Lights& lights, const Falloff& falloff, const R& receiver, const Query& query) {
+    const glm::vec3 from = glm::vec3(receiver.position);
     const float m_light = static_cast<float>(counts.light);
     const float m_bsdf = static_cast<float>(counts.bsdf);
     const auto target = [&](const LightPointSample& s) {
@@ -123,7 +159,12 @@ resample_lights_and_bsdf(Rng& rng, const CandidateCounts& counts, const Sampler&
         float weight = 0.0f;
         float target_value = 0.0f;
         if (choice.pmf > 0.0f) {
-            const auto point = lights.sample_point(choice.index, glm::vec2(u, v));
+            const auto point = [&] {
+                if constexpr (Points == LightPoints::from_receiver)
+                    return lights.sample_point(choice.index, glm::vec2(u, v), from);
+                else
+                    return lights.sample_point(choice.index, glm::vec2(u, v));
+            }();
             const bool is_delta = static_cast<bool>(point.is_delta);
             const float area_pdf = is_delta ? 1.0f : static_cast<float>(point.area_pdf);
             x = make_light_point_sample(choice.index, point, falloff);
@@ -143,18 +184,17 @@ resample_lights_and_bsdf(Rng& rng, const CandidateCounts& counts, const Sampler&
         float weight = 0.0f;
         float target_value = 0.0f;
         if (direction.pdf > 0.0f) {
-            const LightHit hit = query.find_light(glm::vec3(receiver.position), direction.wi);
+            const LightHit hit = query.find_light(from, direction.wi);
             if (hit.found && !hit.point.is_delta) {
                 const float area_pdf = static_cast<float>(hit.point.area_pdf);
                 x = make_light_point_sample(hit.light_id, hit.point, falloff);
                 target_value = target(x); // p-hat / area_pdf
-                const float p_light = sampler.pmf(at, hit.light_id) * area_pdf;
+                const float p_light = sampler.pmf(at, hit.light_id) *
+                                      detail::light_point_pdf<Points>(lights, hit, from);
                 // The direction's own density, converted: no second evaluation of the pdf.
-                const float p_bsdf =
-                    x.is_distant()
-                        ? direction.pdf
-                        : solid_angle_to_area_pdf(direction.pdf, glm::vec3(receiver.position),
-                                                  x.position, x.normal);
+                const float p_bsdf = x.is_distant() ? direction.pdf
+                                                    : solid_angle_to_area_pdf(direction.pdf, from,
+                                                                              x.position, x.normal);
                 weight = safe_divide(target_value * area_pdf, m_light * p_light + m_bsdf * p_bsdf);
             }
         }

@@ -84,6 +84,20 @@ struct UnifiedLightSet {
             return to_light_sample(emitters->sample_point(id, uv, from));
         return sample_point(id, uv);
     }
+
+    /// The density per unit area of `sample_point(id, ., from)` at the emitter's `point`
+    /// (`ReceiverLightDensity`), the environment's density per steradian of the direction
+    /// `point`, or 1 for a VPL (a delta light: no ray finds it). Only when the emitter set
+    /// gives its own.
+    RESTIR_HOST_DEVICE float
+    point_pdf(std::uint32_t id, glm::vec3 point,
+              glm::vec3 from) const requires ReceiverLightDensity<Emitters> {
+        if (id < emitter_count())
+            return static_cast<float>(emitters->point_pdf(id, point, from));
+        if (is_environment(id))
+            return environment.pdf(point);
+        return 1.0f;
+    }
 };
 
 /// The power of each light of a unified set, the weights of its candidate distribution
