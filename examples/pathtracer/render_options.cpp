@@ -204,31 +204,48 @@ struct ReuseFlags {
     }
 };
 
-// --preset, the library's reuse presets, into `settings` and `flags`. Defined before the reuse
-// flags: CLI11 stores the options' values in the order they are defined, so that a reuse flag
-// given beside --preset changes the preset's value.
-void add_preset_option(CLI::App& app, RenderSettings& settings, ReuseFlags& flags) {
+// --preset, the library's reuse presets, into `settings` and `flags`, then the reuse weights'
+// flags. Defined before the other reuse flags: CLI11 stores the options' values in the order
+// they are defined, so that a reuse flag given beside --preset changes the preset's value.
+void add_reuse_options(CLI::App& app, RenderSettings& settings, ReuseFlags& flags) {
     app.add_option_function<restir::DiFramePreset>(
            "--preset",
            [&settings, &flags](restir::DiFramePreset preset) {
                settings.di_frame = RenderSettings::di_frame_settings(preset);
                flags = ReuseFlags{};
+               flags.bias_correction = settings.di_frame.spatial_bias_correction;
                flags.mis_rays = preset != restir::DiFramePreset::fast;
            },
            "ReSTIR's reuse settings (docs/noise-and-bias.md, \"Presets\"): unbiased (the "
            "defaults: 5 neighbours, history cap 4 with permutation sampling), balanced "
-           "(unbiased: 3 neighbours, cap 20 without permutation; less error a frame, a running "
-           "mean that converges slower) or fast (balanced without MIS rays, slightly biased); "
+           "(unbiased: 3 neighbours, cap 20 without permutation, defensive pairwise MIS; less "
+           "error a frame, a running mean that converges slower) or fast (balanced without MIS "
+           "rays, slightly biased); "
            "the reuse flags below change it")
         ->transform(names<restir::DiFramePreset>({{"unbiased", restir::DiFramePreset::unbiased},
                                                   {"balanced", restir::DiFramePreset::balanced},
                                                   {"fast", restir::DiFramePreset::fast}}))
         ->default_str("unbiased");
+    app.add_option("--bias-correction", flags.bias_correction,
+                   "Reuse weights: none (1/M, biased), one-over-z, balance-heuristic, pairwise, "
+                   "defensive-pairwise (docs/noise-and-bias.md)")
+        ->transform(names<restir::BiasCorrection>(
+            {{"none", restir::BiasCorrection::none},
+             {"one-over-z", restir::BiasCorrection::one_over_z},
+             {"balance-heuristic", restir::BiasCorrection::balance_heuristic},
+             {"pairwise", restir::BiasCorrection::pairwise},
+             {"defensive-pairwise", restir::BiasCorrection::defensive_pairwise}}))
+        ->default_str("pairwise");
+    app.add_option("--visibility-reuse", flags.visibility_reuse,
+                   "Zero W of occluded samples before reuse (true/false)");
+    app.add_option("--mis-rays", flags.mis_rays,
+                   "With visibility reuse, trace the shadow rays of the reuse MIS weights "
+                   "(true/false); false assumes samples visible inside the weights (no rays in "
+                   "reuse, slightly biased: docs/noise-and-bias.md)");
 }
 
-// The candidates and the ReSTIR frame's reuse, straight into the library's parameters (the
-// reuse flags through `flags`).
-void add_light_sampling_options(CLI::App& app, RenderSettings& settings, ReuseFlags& flags) {
+// The candidates and the ReSTIR frame's reuse, straight into the library's parameters.
+void add_light_sampling_options(CLI::App& app, RenderSettings& settings) {
     restir::DiFrameParams& frame = settings.di_frame;
     app.add_option("--candidates", settings.candidates,
                    "RIS candidates per pixel (M; 0: 4 from the light BVH, 32 from tiles or grid)")
@@ -254,20 +271,6 @@ void add_light_sampling_options(CLI::App& app, RenderSettings& settings, ReuseFl
                    "Boiling filter after spatial reuse: empty reservoirs whose contribution "
                    "exceeds this multiple of their 9x9 neighbourhood's (0: off; biased)")
         ->check(finite_number & CLI::Range(0.0f, 1e30f));
-    app.add_option("--bias-correction", flags.bias_correction,
-                   "Reuse weights: none (1/M, biased), one-over-z, balance-heuristic, pairwise")
-        ->transform(names<restir::BiasCorrection>(
-            {{"none", restir::BiasCorrection::none},
-             {"one-over-z", restir::BiasCorrection::one_over_z},
-             {"balance-heuristic", restir::BiasCorrection::balance_heuristic},
-             {"pairwise", restir::BiasCorrection::pairwise}}))
-        ->default_str("pairwise");
-    app.add_option("--visibility-reuse", flags.visibility_reuse,
-                   "Zero W of occluded samples before reuse (true/false)");
-    app.add_option("--mis-rays", flags.mis_rays,
-                   "With visibility reuse, trace the shadow rays of the reuse MIS weights "
-                   "(true/false); false assumes samples visible inside the weights (no rays in "
-                   "reuse, slightly biased: docs/noise-and-bias.md)");
     app.add_option("--source", settings.source,
                    "Candidate distribution of ris/restir: auto (default: bvh for scenes of 64 "
                    "or more emitter triangles, else power; docs/performance.md), power or "
@@ -404,8 +407,8 @@ std::optional<RenderOptions> parse_render_options(int argc, const char* const* a
     add_camera_options(app, options);
     add_output_options(app, options);
     ReuseFlags reuse_flags;
-    add_preset_option(app, settings, reuse_flags);
-    add_light_sampling_options(app, settings, reuse_flags);
+    add_reuse_options(app, settings, reuse_flags);
+    add_light_sampling_options(app, settings);
     add_light_point_options(app, settings);
     add_glossy_options(app, settings);
     add_indirect_light_options(app, settings, vpl_seed);

@@ -474,12 +474,15 @@ TEST(Cli, PresetsAreTheLibrarysAndFlagsChangeThem) {
     EXPECT_EQ(balanced.temporal.history_cap_multiplier, 20u);
     EXPECT_FALSE(balanced.temporal.permutation_sampling);
     EXPECT_EQ(balanced.visibility, restir::ReuseVisibility::traced);
+    EXPECT_EQ(balanced.spatial_bias_correction, restir::BiasCorrection::defensive_pairwise);
     const restir::DiFrameParams fast = frame_from_command_line({"--preset", "fast"});
     EXPECT_EQ(fast.visibility, restir::ReuseVisibility::assumed);
     EXPECT_EQ(fast.spatial.neighbour_count, 3u);
     for (const auto& arguments : std::vector<std::vector<const char*>>{
              {"--preset", "fast", "--neighbours", "4", "--mis-rays", "true"},
-             {"--neighbours", "4", "--mis-rays", "true", "--preset", "fast"}}) {
+             {"--neighbours", "4", "--mis-rays", "true", "--preset", "fast"},
+             {"--preset", "fast", "--neighbours", "4", "--mis-rays", "true", "--bias-correction",
+              "defensive-pairwise"}}) {
         const restir::DiFrameParams changed = frame_from_command_line(arguments);
         EXPECT_EQ(changed.spatial.neighbour_count, 4u);
         EXPECT_EQ(changed.visibility, restir::ReuseVisibility::traced);

@@ -594,22 +594,27 @@ TEST(DiFramePresets, ChangeOnlyWhatTheyName) {
     const restir::DiFrameParams fast = restir::di_frame_preset(restir::DiFramePreset::fast);
     EXPECT_EQ(fast.visibility, restir::ReuseVisibility::assumed);
     EXPECT_EQ(fast.spatial.neighbour_count, balanced.spatial.neighbour_count);
-    for (const restir::DiFrameParams& p : {unbiased, balanced, fast}) {
-        EXPECT_EQ(p.spatial_bias_correction, BiasCorrection::pairwise);
-        EXPECT_EQ(p.temporal_bias_correction, BiasCorrection::pairwise);
-        EXPECT_FALSE(p.boiling_filter);
+    EXPECT_EQ(unbiased.spatial_bias_correction, BiasCorrection::pairwise);
+    EXPECT_EQ(unbiased.temporal_bias_correction, BiasCorrection::pairwise);
+    for (const restir::DiFrameParams& p : {balanced, fast}) {
+        EXPECT_EQ(p.spatial_bias_correction, BiasCorrection::defensive_pairwise);
+        EXPECT_EQ(p.temporal_bias_correction, BiasCorrection::defensive_pairwise);
     }
+    for (const restir::DiFrameParams& p : {unbiased, balanced, fast})
+        EXPECT_FALSE(p.boiling_filter);
 }
 
 std::string mode_name(const ::testing::TestParamInfo<BiasCorrection>& param) {
-    const char* const names[] = {"none", "one_over_z", "balance_heuristic", "pairwise"};
+    const char* const names[] = {"none", "one_over_z", "balance_heuristic", "pairwise",
+                                 "defensive_pairwise"};
     return names[static_cast<int>(param.param)];
 }
 
 INSTANTIATE_TEST_SUITE_P(Modes, UnbiasedRecipe,
                          ::testing::Values(BiasCorrection::one_over_z,
                                            BiasCorrection::balance_heuristic,
-                                           BiasCorrection::pairwise),
+                                           BiasCorrection::pairwise,
+                                           BiasCorrection::defensive_pairwise),
                          mode_name);
 
 } // namespace

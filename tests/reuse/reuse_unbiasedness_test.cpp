@@ -44,7 +44,8 @@ struct ReuseSetup {
 };
 
 std::string name_of(const ReuseSetup& s) {
-    const char* modes[] = {"none", "one_over_z", "balance_heuristic", "pairwise"};
+    const char* modes[] = {"none", "one_over_z", "balance_heuristic", "pairwise",
+                           "defensive_pairwise"};
     const char* passes[] = {"spatial", "temporal", "both", "fused", "two_spatial"};
     return std::string(modes[static_cast<int>(s.mode)]) + "/" + passes[static_cast<int>(s.passes)] +
            (s.visibility_reuse ? "" : "/no-visibility-reuse") + (s.retest ? "/retested" : "") +
@@ -259,8 +260,8 @@ TEST_P(UnbiasedReuse, MeanMatchesTruthAtEveryPixel) {
 
 std::vector<ReuseSetup> unbiased_setups() {
     std::vector<ReuseSetup> setups;
-    for (BiasCorrection mode :
-         {BiasCorrection::one_over_z, BiasCorrection::balance_heuristic, BiasCorrection::pairwise})
+    for (BiasCorrection mode : {BiasCorrection::one_over_z, BiasCorrection::balance_heuristic,
+                                BiasCorrection::pairwise, BiasCorrection::defensive_pairwise})
         for (Passes passes :
              {Passes::spatial, Passes::two_spatial, Passes::temporal, Passes::both, Passes::fused})
             setups.push_back({mode, passes, true});
@@ -273,8 +274,8 @@ std::vector<ReuseSetup> unbiased_setups() {
             setups.push_back({mode, passes, true, true});
     // Glossy receivers (roughness 0.05 to 1 along each row, a metal row), with and without
     // BSDF-guided candidates.
-    for (BiasCorrection mode :
-         {BiasCorrection::one_over_z, BiasCorrection::balance_heuristic, BiasCorrection::pairwise})
+    for (BiasCorrection mode : {BiasCorrection::one_over_z, BiasCorrection::balance_heuristic,
+                                BiasCorrection::pairwise, BiasCorrection::defensive_pairwise})
         for (Passes passes : {Passes::two_spatial, Passes::both, Passes::fused})
             for (bool guided : {false, true}) {
                 ReuseSetup setup{mode, passes, true};

@@ -165,7 +165,8 @@ struct GiSetup {
 };
 
 std::string name_of(const GiSetup& s) {
-    const char* modes[] = {"none", "one_over_z", "balance_heuristic", "pairwise"};
+    const char* modes[] = {"none", "one_over_z", "balance_heuristic", "pairwise",
+                           "defensive_pairwise"};
     return std::string(modes[static_cast<int>(s.mode)]) + (s.temporal ? "/temporal" : "/spatial") +
            (s.occluder ? "/occluder" : "") + (s.roughness < 0.5f ? "/glossy" : "") +
            (s.visible_target ? "/visible-target" : "");
@@ -368,7 +369,8 @@ TEST_P(UnbiasedShiftReuse, MeanMatchesTruthAtEveryPixel) {
 std::vector<GiSetup> unbiased_setups() {
     std::vector<GiSetup> setups;
     constexpr BiasCorrection unbiased[] = {
-        BiasCorrection::one_over_z, BiasCorrection::balance_heuristic, BiasCorrection::pairwise};
+        BiasCorrection::one_over_z, BiasCorrection::balance_heuristic, BiasCorrection::pairwise,
+        BiasCorrection::defensive_pairwise};
     for (BiasCorrection mode : unbiased)
         for (bool occluded : {false, true})
             for (bool temporal : {false, true})

@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <iterator>
 #include <limits>
 #include <vector>
 
@@ -83,7 +84,8 @@ Trial random_trial(std::uint32_t trial, restir::Pcg32& rng) {
 }
 
 constexpr BiasCorrection modes[] = {BiasCorrection::none, BiasCorrection::one_over_z,
-                                    BiasCorrection::balance_heuristic, BiasCorrection::pairwise};
+                                    BiasCorrection::balance_heuristic, BiasCorrection::pairwise,
+                                    BiasCorrection::defensive_pairwise};
 
 restir::ReuseParams params_of(BiasCorrection mode, int variant) {
     constexpr restir::ReuseVisibility visibility[] = {
@@ -145,7 +147,7 @@ TEST(StreamedReuse, ComputedSetEqualsTheArrayOfItsInputs) {
                 borrowed += streamed.sample.id != t.reservoirs[0].sample.id;
             }
     }
-    EXPECT_EQ(compared, 4000u * 16u);
+    EXPECT_EQ(compared, 4000u * 4u * std::size(modes));
     EXPECT_GT(borrowed, compared / 4u) << "reuse should often pick a borrowed sample";
 }
 
@@ -261,6 +263,9 @@ TEST(StreamedReuse, SpatialSetHoldsTheLendingNeighboursInOrder) {
                     case BiasCorrection::balance_heuristic:
                         return restir::combine_balance_heuristic(reservoirs[p], patches[p], inputs,
                                                                  reuse, bridge, g);
+                    case BiasCorrection::defensive_pairwise:
+                        return restir::combine_defensive_pairwise(reservoirs[p], patches[p], inputs,
+                                                                  reuse, bridge, g);
                     case BiasCorrection::pairwise:
                         break;
                     }

@@ -155,22 +155,25 @@ combine_balance_heuristic(const Reservoir<Sample>& canonical, const S& surface,
     return result;
 }
 
-/// Bias correction `pairwise` (Bitterli's 2022 dissertation): pair i = (canonical with
-/// confidence M_c / k, input i with M_i), worth beta_i = (M_i + M_c / k) / M_total of the whole,
-/// split by a two-technique balance heuristic; the betas sum to one. The inputs are visited
-/// twice (their M, then the pairs): 3k target evaluations.
-template <class Sample, Surface S, class Inputs, class Target, class Visibility, class MaterialTest,
-          class Shift, UniformRng Rng>
-requires ReuseInputs<Inputs, Sample, S> RESTIR_HOST_DEVICE Reservoir<Sample>
-combine_pairwise(const Reservoir<Sample>& canonical, const S& surface, const Inputs& inputs,
-                 const ReuseParams& params,
-                 const ReuseBridge<Target, Visibility, MaterialTest, Shift>& bridge, Rng& rng) {
-    const detail::ReuseTerms<Sample, S, ReuseBridge<Target, Visibility, MaterialTest, Shift>> terms{
+namespace detail {
+/// Pairwise MIS (Bitterli's 2022 dissertation) with confidence weights M: pair i = (canonical,
+/// input i), split by a two-technique balance heuristic, the shares summing to one. Plain
+/// (`Defensive` false): pair i is worth (M_i + M_c / k) / M_total, the canonical's confidence
+/// in it M_c / k. Defensive: the canonical keeps M_c / M_total of its own, pair i is worth
+/// M_i / M_total and the canonical's confidence in it is M_c. The inputs are visited twice
+/// (their M, then the pairs): 3k target evaluations.
+template <bool Defensive, class Sample, class S, class Inputs, class Target, class Visibility,
+          class MaterialTest, class Shift, UniformRng Rng>
+RESTIR_HOST_DEVICE Reservoir<Sample>
+combine_pairs(const Reservoir<Sample>& canonical, const S& surface, const Inputs& inputs,
+              const ReuseParams& params,
+              const ReuseBridge<Target, Visibility, MaterialTest, Shift>& bridge, Rng& rng) {
+    const ReuseTerms<Sample, S, ReuseBridge<Target, Visibility, MaterialTest, Shift>> terms{
         surface, params, bridge};
     const float canonical_count = static_cast<float>(canonical.candidate_count);
     float total_count = canonical_count;
-    const std::uint32_t k = detail::for_each_input<Sample, S>(
-        inputs, [&](std::uint32_t, const Reservoir<Sample>& r, const S&) {
+    const std::uint32_t k =
+        for_each_input<Sample, S>(inputs, [&](std::uint32_t, const Reservoir<Sample>& r, const S&) {
             total_count += static_cast<float>(r.candidate_count);
         });
     // Every return returns one named result, so that it is built in place in the caller's
@@ -180,13 +183,16 @@ combine_pairwise(const Reservoir<Sample>& canonical, const S& surface, const Inp
         result = canonical;
         return result;
     }
-    const float canonical_share = canonical_count / static_cast<float>(k);
-    float canonical_mis = 0.0f;
-    const detail::LentTargets<Sample, S, decltype(terms), Inputs> targets(inputs, terms);
-    detail::for_each_input<Sample, S>(inputs, [&](std::uint32_t j, const Reservoir<Sample>& r,
-                                                  const S& there) {
+    // The canonical's confidence inside each pair, and the part of the pairs' worth it brings.
+    const float canonical_share =
+        Defensive ? canonical_count : canonical_count / static_cast<float>(k);
+    const float pair_canonical = Defensive ? 0.0f : canonical_share;
+    float canonical_mis = Defensive ? safe_divide(canonical_count, total_count) : 0.0f;
+    const LentTargets<Sample, S, decltype(terms), Inputs> targets(inputs, terms);
+    for_each_input<Sample, S>(inputs, [&](std::uint32_t j, const Reservoir<Sample>& r,
+                                          const S& there) {
         const float count = static_cast<float>(r.candidate_count);
-        const float pair_weight = safe_divide(count + canonical_share, total_count);
+        const float pair_weight = safe_divide(count + pair_canonical, total_count);
         typename decltype(terms)::Lent lent(r);
         float here = 0.0f;
         float mis_weight = 0.0f;
@@ -209,6 +215,33 @@ combine_pairwise(const Reservoir<Sample>& canonical, const S& surface, const Inp
     result.merge_with_mis(canonical, canonical.target_value, canonical_mis, next_float(rng));
     result.finalize_normalized(1.0f);
     return result;
+}
+} // namespace detail
+
+/// Bias correction `pairwise` (Bitterli's 2022 dissertation): pair i = (canonical with
+/// confidence M_c / k, input i with M_i), worth beta_i = (M_i + M_c / k) / M_total of the whole,
+/// split by a two-technique balance heuristic; the betas sum to one. The inputs are visited
+/// twice (their M, then the pairs): 3k target evaluations.
+template <class Sample, Surface S, class Inputs, class Target, class Visibility, class MaterialTest,
+          class Shift, UniformRng Rng>
+requires ReuseInputs<Inputs, Sample, S> RESTIR_HOST_DEVICE Reservoir<Sample>
+combine_pairwise(const Reservoir<Sample>& canonical, const S& surface, const Inputs& inputs,
+                 const ReuseParams& params,
+                 const ReuseBridge<Target, Visibility, MaterialTest, Shift>& bridge, Rng& rng) {
+    return detail::combine_pairs<false, Sample>(canonical, surface, inputs, params, bridge, rng);
+}
+
+/// Bias correction `defensive_pairwise`: pairwise MIS in which the canonical keeps M_c /
+/// M_total of its own and pair i, worth M_i / M_total, is split with confidences M_c and M_i.
+/// The same cost as `combine_pairwise`.
+template <class Sample, Surface S, class Inputs, class Target, class Visibility, class MaterialTest,
+          class Shift, UniformRng Rng>
+requires ReuseInputs<Inputs, Sample, S> RESTIR_HOST_DEVICE Reservoir<Sample>
+combine_defensive_pairwise(const Reservoir<Sample>& canonical, const S& surface,
+                           const Inputs& inputs, const ReuseParams& params,
+                           const ReuseBridge<Target, Visibility, MaterialTest, Shift>& bridge,
+                           Rng& rng) {
+    return detail::combine_pairs<true, Sample>(canonical, surface, inputs, params, bridge, rng);
 }
 
 /// Combines the receiver's own (canonical) reservoir (computed for `surface`, finalised) with
@@ -239,6 +272,8 @@ requires ReuseInputs<Inputs, Sample, S> && TargetFunction<Target, Sample, S> &&
         return combine_one_over_z(canonical, surface, inputs, params, bridge, rng);
     else if constexpr (Mode == BiasCorrection::balance_heuristic)
         return combine_balance_heuristic(canonical, surface, inputs, params, bridge, rng);
+    else if constexpr (Mode == BiasCorrection::defensive_pairwise)
+        return combine_defensive_pairwise(canonical, surface, inputs, params, bridge, rng);
     else
         return combine_pairwise(canonical, surface, inputs, params, bridge, rng);
 }
@@ -263,6 +298,9 @@ requires ReuseInputs<Inputs, Sample, S> && TargetFunction<Target, Sample, S> &&
     case BiasCorrection::balance_heuristic:
         return combine_with<BiasCorrection::balance_heuristic, Sample>(receiver_reservoir, surface,
                                                                        inputs, params, bridge, rng);
+    case BiasCorrection::defensive_pairwise:
+        return combine_with<BiasCorrection::defensive_pairwise, Sample>(
+            receiver_reservoir, surface, inputs, params, bridge, rng);
     case BiasCorrection::pairwise:
         break;
     }

@@ -54,7 +54,9 @@ enum class DiFramePreset : std::uint8_t {
     /// less alike, so that their mean converges faster). restir-render's defaults.
     unbiased,
     /// Unbiased, for the frame alone: 3 neighbours and the paper's cap of 20 without
-    /// permutation, less error a frame for less time; the running mean converges slower.
+    /// permutation, with defensive pairwise MIS (`BiasCorrection::defensive_pairwise`: the
+    /// long history's own sample keeps its share where neighbours' targets differ), less error
+    /// a frame for less time; the running mean converges slower.
     balanced,
     /// Biased, for speed: as `balanced`, with MIS weights that assume every sample visible
     /// (`ReuseVisibility::assumed`: no ray in reuse; a little light lost or gained near shadow
@@ -69,6 +71,10 @@ RESTIR_HOST_DEVICE constexpr DiFrameParams di_frame_preset(DiFramePreset preset)
         p.spatial.neighbour_count = 5u;
         p.temporal.history_cap_multiplier = 4u;
         p.temporal.permutation_sampling = true;
+    }
+    if (preset != DiFramePreset::unbiased) {
+        p.temporal_bias_correction = BiasCorrection::defensive_pairwise;
+        p.spatial_bias_correction = BiasCorrection::defensive_pairwise;
     }
     if (preset == DiFramePreset::fast)
         p.visibility = ReuseVisibility::assumed;

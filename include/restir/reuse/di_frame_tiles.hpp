@@ -172,6 +172,7 @@ struct TileReuse {
     TileReuse(const ReuseBridge<Target, Tracer, MaterialTest>& b, const ReuseParams& reuse)
         : bridge(b), asks(traces_mis_rays(reuse.visibility) &&
                           (reuse.bias_correction == BiasCorrection::pairwise ||
+                           reuse.bias_correction == BiasCorrection::defensive_pairwise ||
                            reuse.bias_correction == BiasCorrection::balance_heuristic)) {}
 
     /// Records the MIS questions of pixel `k`: its sample `canonical` at the surfaces of the

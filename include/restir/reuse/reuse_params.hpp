@@ -31,6 +31,14 @@ enum class BiasCorrection {
     /// form a two-technique balance heuristic, the pairs weighted by their confidence.
     /// Unbiased; 3k target evaluations and, under visibility reuse, 2k shadow rays.
     pairwise,
+    /// Pairwise MIS in which the canonical input also keeps a share of its own, M_c / M_total,
+    /// beside the pairs (each worth M_i / M_total, split with confidences M_c and M_i): with
+    /// equal M it weighs its own sample by (1 + sum_i p-hat_q / (p-hat_q + p-hat_i)) / (k + 1),
+    /// at least 1 / (k + 1). Unbiased; the cost of `pairwise`. Less error a frame where
+    /// neighbouring pixels' targets differ and the canonical reservoir is strong (a long
+    /// history), more where neighbours are as good (docs/noise-and-bias.md, "The spatial
+    /// pass"); the `balanced` preset's choice.
+    defensive_pairwise,
 };
 
 /// What the reservoirs that enter a reuse step know about visibility, and which shadow rays
