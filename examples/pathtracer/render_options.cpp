@@ -192,12 +192,14 @@ void add_output_options(CLI::App& app, RenderOptions& options) {
 
 // The reuse flags as given, made the library's parameters after parsing (`apply`).
 struct ReuseFlags {
-    restir::BiasCorrection bias_correction = restir::BiasCorrection::pairwise;
+    std::optional<restir::BiasCorrection> bias_correction; // none given: the preset's
     bool visibility_reuse = true;
     bool mis_rays = true;
     void apply(restir::DiFrameParams& frame) const {
-        frame.temporal_bias_correction = bias_correction;
-        frame.spatial_bias_correction = bias_correction;
+        if (bias_correction) {
+            frame.temporal_bias_correction = *bias_correction;
+            frame.spatial_bias_correction = *bias_correction;
+        }
         frame.visibility = !visibility_reuse ? restir::ReuseVisibility::none
                            : mis_rays        ? restir::ReuseVisibility::traced
                                              : restir::ReuseVisibility::assumed;
@@ -213,13 +215,13 @@ void add_reuse_options(CLI::App& app, RenderSettings& settings, ReuseFlags& flag
            [&settings, &flags](restir::DiFramePreset preset) {
                settings.di_frame = RenderSettings::di_frame_settings(preset);
                flags = ReuseFlags{};
-               flags.bias_correction = settings.di_frame.spatial_bias_correction;
                flags.mis_rays = preset != restir::DiFramePreset::fast;
            },
            "ReSTIR's reuse settings (docs/noise-and-bias.md, \"Presets\"): unbiased (the "
            "defaults: 5 neighbours, history cap 4 with permutation sampling), balanced "
            "(unbiased: 3 neighbours, cap 20 without permutation, defensive pairwise MIS; less "
-           "error a frame, a running mean that converges slower) or fast (balanced without MIS "
+           "error a frame, a running mean that converges slower) or fast "
+           "(balanced without MIS "
            "rays, slightly biased); "
            "the reuse flags below change it")
         ->transform(names<restir::DiFramePreset>({{"unbiased", restir::DiFramePreset::unbiased},

@@ -475,6 +475,7 @@ TEST(Cli, PresetsAreTheLibrarysAndFlagsChangeThem) {
     EXPECT_FALSE(balanced.temporal.permutation_sampling);
     EXPECT_EQ(balanced.visibility, restir::ReuseVisibility::traced);
     EXPECT_EQ(balanced.spatial_bias_correction, restir::BiasCorrection::defensive_pairwise);
+    EXPECT_EQ(balanced.temporal_bias_correction, restir::BiasCorrection::defensive_pairwise);
     const restir::DiFrameParams fast = frame_from_command_line({"--preset", "fast"});
     EXPECT_EQ(fast.visibility, restir::ReuseVisibility::assumed);
     EXPECT_EQ(fast.spatial.neighbour_count, 3u);

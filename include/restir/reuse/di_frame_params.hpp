@@ -55,8 +55,9 @@ enum class DiFramePreset : std::uint8_t {
     unbiased,
     /// Unbiased, for the frame alone: 3 neighbours and the paper's cap of 20 without
     /// permutation, with defensive pairwise MIS (`BiasCorrection::defensive_pairwise`: the
-    /// long history's own sample keeps its share where neighbours' targets differ), less error
-    /// a frame for less time; the running mean converges slower.
+    /// pixel's own reservoir, strong after a long history, keeps a share of its own where
+    /// neighbours' targets differ); less error a frame for less time, a running mean that
+    /// converges slower.
     balanced,
     /// Biased, for speed: as `balanced`, with MIS weights that assume every sample visible
     /// (`ReuseVisibility::assumed`: no ray in reuse; a little light lost or gained near shadow
