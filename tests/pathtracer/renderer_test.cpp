@@ -8,6 +8,7 @@
 #include "scene.hpp"
 
 #include "pathtracer/directional_albedo.hpp"
+#include "pathtracer/image_sums.hpp"
 #include "support/statistics.hpp"
 
 #include <glm/geometric.hpp>
@@ -17,6 +18,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -342,28 +344,26 @@ TEST(Renderer, SolidAngleLightPointsEstimateTheSameImage) {
 // within 4 standard errors, for RIS and ReSTIR.
 TEST(Renderer, BsdfCandidatesBesideSolidAngleLightPointsEstimateTheSameImage) {
     const pt::Scene scene = pt::make_glossy_cornell_box();
-    pt::RenderSettings s = tiny(scene, 32);
-    s.gi = GlobalIllumination::none;
-    s.candidates = 4;
-    s.bsdf_candidates = 1;
+    struct Setup {
+        Method method;
+        pt::LightPoints points;
+        std::string name;
+    };
     for (const Method method : {Method::ris, Method::restir}) {
-        restir::test::RunningStats brightness[2];
-        for (std::uint64_t seed = 1; seed <= 8; ++seed)
-            for (int k = 0; k < 2; ++k) {
-                s.method = method;
-                s.light_points = k == 0 ? pt::LightPoints::area : pt::LightPoints::solid_angle;
-                s.seed = seed;
-                double sum = 0.0;
-                for (const glm::vec3& p : render(scene, s, 4).pixels)
-                    sum += static_cast<double>(p.x + p.y + p.z);
-                brightness[k].add(sum);
-            }
-        const double difference = std::abs(brightness[1].mean() - brightness[0].mean());
-        const double error =
-            std::sqrt(brightness[0].variance() / 8.0 + brightness[1].variance() / 8.0);
-        EXPECT_LT(difference, 4.0 * error)
-            << (method == Method::ris ? "ris" : "restir") << ": area " << brightness[0].mean()
-            << ", solid angle " << brightness[1].mean();
+        const std::string name = method == Method::ris ? "ris" : "restir";
+        const std::vector<Setup> setups = {
+            {method, pt::LightPoints::area, name + " area"},
+            {method, pt::LightPoints::solid_angle, name + " solid angle, BSDF candidates"}};
+        pt::test::expect_agreement(scene, setups, 8, [&](const Setup& setup, std::uint64_t seed) {
+            pt::RenderSettings s = tiny(scene, 32);
+            s.gi = GlobalIllumination::none;
+            s.candidates = 4;
+            s.bsdf_candidates = 1;
+            s.method = setup.method;
+            s.light_points = setup.points;
+            s.seed = seed;
+            return s;
+        });
     }
 }
 
