@@ -220,17 +220,15 @@ void add_reuse_options(CLI::App& app, RenderSettings& settings, ReuseFlags& flag
            "ReSTIR's reuse settings (docs/noise-and-bias.md, \"Presets\"): unbiased (the "
            "defaults: 5 neighbours, history cap 4 with permutation sampling), balanced "
            "(unbiased: 3 neighbours, cap 20 without permutation, defensive pairwise MIS; less "
-           "error a frame, a running mean that converges slower) or fast "
-           "(balanced without MIS "
-           "rays, slightly biased); "
-           "the reuse flags below change it")
+           "error a frame, a running mean that converges slower) or fast (balanced without MIS "
+           "rays, biased); the reuse flags below change it")
         ->transform(names<restir::DiFramePreset>({{"unbiased", restir::DiFramePreset::unbiased},
                                                   {"balanced", restir::DiFramePreset::balanced},
                                                   {"fast", restir::DiFramePreset::fast}}))
         ->default_str("unbiased");
     app.add_option("--bias-correction", flags.bias_correction,
                    "Reuse weights: none (1/M, biased), one-over-z, balance-heuristic, pairwise, "
-                   "defensive-pairwise (docs/noise-and-bias.md)")
+                   "defensive-pairwise (docs/noise-and-bias.md); default: the preset's")
         ->transform(names<restir::BiasCorrection>(
             {{"none", restir::BiasCorrection::none},
              {"one-over-z", restir::BiasCorrection::one_over_z},
