@@ -68,6 +68,14 @@ struct Lights {
         s.area_pdf = restir::solid_angle_to_area_pdf(drawn.pdf, from, drawn.point, t.normal());
         return s;
     }
+    // The density of that map at a point of the triangle (`ReceiverLightDensity`).
+    float point_pdf(std::uint32_t id, glm::vec3 on_light, glm::vec3 from) const {
+        if (id == 3u)
+            return 1.0f;
+        const Triangle& t = triangles[id];
+        return restir::solid_angle_to_area_pdf(
+            restir::triangle_pdf_from(from, t.a, t.b, t.c, on_light), from, on_light, t.normal());
+    }
 
 private:
     static restir::LightSample emitting(const Triangle& t) {
@@ -269,6 +277,8 @@ TEST(ReceiverLightCandidates, UnifiedSetForwardsTheReceiverPointToEmitters) {
     };
     static_assert(!restir::ReceiverLightSet<restir::UnifiedLightSet<AreaOnly>>);
     static_assert(restir::ReceiverLightSet<restir::UnifiedLightSet<Lights>>);
+    static_assert(restir::ReceiverLightDensity<restir::UnifiedLightSet<Lights>>);
+    static_assert(!restir::ReceiverLightDensity<restir::UnifiedLightSet<AreaOnly>>);
     const Lights emitters;
     restir::Vpl vpl;
     vpl.position = glm::vec3(1.0f, 2.0f, 3.0f);
@@ -282,6 +292,11 @@ TEST(ReceiverLightCandidates, UnifiedSetForwardsTheReceiverPointToEmitters) {
         EXPECT_EQ(forwarded.position, direct.position);
         EXPECT_EQ(forwarded.area_pdf, direct.area_pdf);
         EXPECT_NE(forwarded.area_pdf, unified.sample_point(id, uv).area_pdf);
+        // The density the set gives at the point it drew is the one the point carries.
+        EXPECT_EQ(unified.point_pdf(id, forwarded.position, from),
+                  emitters.point_pdf(id, direct.position, from));
+        EXPECT_NEAR(unified.point_pdf(id, forwarded.position, from), forwarded.area_pdf,
+                    1e-3f * forwarded.area_pdf);
     }
     const restir::LightSample v = unified.sample_point(4u, uv, from);
     EXPECT_TRUE(v.is_delta);
