@@ -278,6 +278,42 @@ TEST(LightBvh, QuantisedBoundsHoldEveryLight) {
     check_quantised_bounds(point_bounds_of(test_lights(5u, 63u)));
 }
 
+// Coplanar lights away from the origin (a ceiling of panels, or the two triangles of the
+// Cornell box's light at y = 548.8 in millimetres): their box is flat along y, where a grid step
+// of FLT_MIN made lower / step overflow, the root's box infinite and every pmf 0 (a black image
+// from restir-render --source bvh). Every light must keep a positive pmf below the ceiling, the
+// pmfs sum to one there, and the quantised bounds hold.
+TEST(LightBvh, CoplanarLightsFarFromTheOriginAreDrawn) {
+    for (const float height : {2.0f, 5.0f, 548.8f, -3.0e4f}) {
+        std::vector<LightBounds> ceiling;
+        for (int i = 0; i < 8; ++i)
+            for (int j = 0; j < 8; ++j) {
+                const glm::vec3 corner(-4.0f + static_cast<float>(i), height,
+                                       -4.0f + static_cast<float>(j));
+                ceiling.push_back(restir::area_light_bounds(
+                    corner, corner + glm::vec3(0.5f, 0.0f, 0.5f), {0.0f, -1.0f, 0.0f},
+                    1.0f + static_cast<float>(i + j)));
+            }
+        check_quantised_bounds(ceiling);
+        const restir::LightBvh bvh(ceiling);
+        const restir::LightBvhView view = bvh.view();
+        for (const glm::vec3 position :
+             {glm::vec3(0.0f, height - 1.0f, 0.0f), glm::vec3(3.0f, height - 50.0f, -2.0f)}) {
+            const ShadingPoint at{position, {0.0f, 1.0f, 0.0f}};
+            double total = 0.0;
+            for (std::uint32_t id = 0; id < ceiling.size(); ++id) {
+                const float pmf = view.pmf(at, id);
+                EXPECT_GT(pmf, 0.0f) << "height " << height << ", light " << id;
+                total += static_cast<double>(pmf);
+            }
+            EXPECT_NEAR(total, 1.0, 1e-5) << "height " << height;
+            restir::Pcg32 rng = restir::make_pixel_rng(3u, 0u, 0u, 64u);
+            const restir::DiscreteSample s = restir::sample_light(view, at, rng);
+            EXPECT_GT(s.pmf, 0.0f) << "height " << height;
+        }
+    }
+}
+
 // Lights in a few tight clusters of very different powers: the cost splits them unevenly, so
 // paths are longer than log8 n; the draws still follow the pmf.
 TEST(LightBvh, DrawsLightsWithItsPmfInClusters) {

@@ -183,13 +183,18 @@ RESTIR_HOST_DEVICE inline float bits_float(std::uint32_t bits) noexcept {
 
 // The grid step over [lower, upper] along one axis (`LightBvhGrid::over`): the power of two at
 // or above extent / 255, on the bit pattern, doubled once where extent * (1 / 255) rounded down
-// onto one below it (255 step is exact). The extent is exact: the corners are multiples of the
-// parent's step, at most 255 of them apart.
+// onto one below it (255 step is exact); and at least the spacing of floats at the larger end,
+// 2^-23 times the power of two at or below max(|lower|, |upper|): a finer step would tell no
+// more corners apart, and a flat box (extent 0: coplanar lights) far from 0 would overflow
+// lower / step. A box inside a box gets a step no larger, so its corners stay multiples of it.
+// The extent is exact: the corners are multiples of the parent's step, at most 255 apart.
 RESTIR_HOST_DEVICE inline float grid_step(float lower, float upper) noexcept {
     const float extent = upper - lower;
     float step = bits_float((float_bits(extent * (1.0f / 255.0f)) + 0x007fffffu) & 0x7f800000u);
     step = 255.0f * step < extent ? 2.0f * step : step;
-    return max_of(step, 0x1p-126f); // FLT_MIN: no subnormal steps
+    const float magnitude = max_of(std::fabs(lower), std::fabs(upper));
+    const float spacing = bits_float(float_bits(magnitude) & 0x7f800000u) * 0x1p-23f;
+    return max_of(max_of(step, spacing), 0x1p-126f); // FLT_MIN: no subnormal steps
 }
 
 // An axis from its octahedral codes (each 0 to 254, 127 the middle): the octahedron's point
