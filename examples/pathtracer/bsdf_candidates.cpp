@@ -1,42 +1,11 @@
 #include "bsdf_candidates.hpp"
 
+#include <optional>
 #include <utility>
 
 namespace pt {
 
 namespace {
-
-// The emitter a BSDF ray finds: the inverse of TriangleEmitters::sample_point (a uniform point
-// by area, so the light candidates' density there is 1 / area); or, where the ray leaves the
-// scene, the environment's direction (its density per steradian from the map).
-struct EmitterHits {
-    const EmbreeScene* rays;
-    const Unified* lights;
-    glm::vec3 normal;
-    float ray_offset;
-
-    restir::LightHit find_light(glm::vec3 origin, glm::vec3 direction) const {
-        const Hit hit = rays->closest_hit_from(origin, normal, direction, ray_offset);
-        if (!hit.found)
-            return lights->environment_count() == 0u
-                       ? restir::LightHit{}
-                       : restir::LightHit{
-                             true, lights->environment_id(),
-                             restir::environment_light_point(lights->environment, direction)};
-        const TriangleEmitters* emitters = lights->emitters;
-        const std::uint32_t emitter = emitters->emitter_of_triangle(hit.triangle);
-        if (emitter == TriangleEmitters::none)
-            return {};
-        restir::LightHit light{true, emitter, {}};
-        light.point.position = hit.position;
-        light.point.normal = hit.normal;
-        // One-sided: the back of an emitter sends nothing.
-        light.point.radiance =
-            glm::dot(hit.normal, direction) < 0.0f ? emitters->radiance(emitter) : glm::vec3(0.0f);
-        light.point.area_pdf = 1.0f / emitters->area(emitter);
-        return light;
-    }
-};
 
 class BsdfCandidates final : public InitialCandidates {
 public:
@@ -61,6 +30,11 @@ public:
         const restir::ShadingPoint at{s.position, s.normal, 0.0f};
         const restir::GlossyReceiver receiver = glossy_receiver(s); // as p-hat and shading see it
         const EmitterHits hits{&rays_, &lights_.lights(), s.normal, ray_offset_};
+        // The source's own light candidates where it can weigh them against BSDF rays' hits
+        // (tiles, the BVH); else light candidates drawn here by power.
+        if (std::optional<Reservoir> both =
+                source_->with_bsdf_candidates(x, y, frame_index, counts_, receiver, hits, rng))
+            return *both;
         // --light-points solid-angle: the light candidates' points drawn from the pixel, and
         // the BSDF candidates weighed against that map's density.
         if (from_receiver_)

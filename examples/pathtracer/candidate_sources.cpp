@@ -14,24 +14,40 @@ namespace {
 
 constexpr std::uint32_t group_size = 8; // candidates per batch-RIS candidate group
 
+// The candidate groups a pixel takes from the `size` entries from tile `tile` on: from a random
+// start with a random odd stride, so that every candidate is a uniformly random entry (its
+// density is the entry's pdf) and no group repeats within a pixel while there are enough of
+// them. They may span consecutive tiles (the grid's tiles of more than one group of a tile
+// array).
+struct TileWalk {
+    std::uint32_t base; // tile * tile_size
+    std::uint32_t group_mask;
+    std::uint32_t start;
+    std::uint32_t stride;
+
+    TileWalk(const restir::LightTileArrays& from, std::uint32_t tile, std::uint32_t size,
+             restir::Pcg32& rng)
+        : base(tile * from.tile_size), group_mask(size / group_size - 1u), start(rng.next_uint()),
+          stride(rng.next_uint() | 1u) {}
+
+    // The global index of group g's first entry.
+    std::uint32_t first_entry(std::uint32_t g) const {
+        return base + ((start + g * stride) & group_mask) * group_size;
+    }
+};
+
 // Batch RIS over the `size` entries from tile `tile` of `from` on (Alg. 3 of Bitterli et al.
-// 2020, in candidate groups of 8 consecutive entries: sampling/ris_batch.hpp); they may span
-// consecutive tiles (the grid's tiles of more than one group of `from`).
+// 2020, in candidate groups of 8 consecutive entries: sampling/ris_batch.hpp).
 Reservoir tile_reservoir(const restir::LightTileArrays& from, std::uint32_t tile,
                          std::uint32_t size, std::uint32_t candidates, const GSurface& s,
                          restir::Pcg32& rng) {
-    // Candidate groups walk the tile's groups from a random start with a random odd stride:
-    // every candidate is a uniformly random entry (so its density is the entry's pdf), and no
-    // group repeats within a pixel while there are enough of them.
-    const std::uint32_t group_mask = size / group_size - 1u;
-    const std::uint32_t start = rng.next_uint();
-    const std::uint32_t stride = rng.next_uint() | 1u;
+    const TileWalk walk(from, tile, size, rng);
     const auto picked = with_receiver(s, [&](const auto& receiver) {
         return restir::resample_ris_batch<group_size>(
             rng, candidates, [&](std::uint32_t g, restir::CandidateBlock<group_size>& group) {
-                const std::uint32_t first = ((start + g * stride) & group_mask) * group_size;
+                const std::uint32_t first = walk.first_entry(g);
                 return restir::evaluate_tile_block<group_size, target_norm>(
-                    from, tile + first / from.tile_size, first % from.tile_size, receiver, group);
+                    from, first / from.tile_size, first % from.tile_size, receiver, group);
             });
     });
     return picked.with_sample(from.point_sample(picked.sample));
@@ -118,6 +134,28 @@ public:
                    : chosen;
     }
 
+    // The tile's entries beside BSDF candidates, each weighed against the other's density:
+    // the tiles' (power or uniform, points uniform in area) where a BSDF ray hits an emitter.
+    std::optional<Reservoir> with_bsdf_candidates(std::uint32_t x, std::uint32_t y,
+                                                  std::uint32_t frame_index,
+                                                  const restir::CandidateCounts& counts,
+                                                  const restir::GlossyReceiver& receiver,
+                                                  const EmitterHits& hits,
+                                                  restir::Pcg32& rng) const override {
+        if (settings_.light_points == LightPoints::solid_angle)
+            return std::nullopt;
+        const TileWalk walk(tiles_, tiles_.tile_for(blocks_.block_of(x, y), frame_index), tile_size,
+                            rng);
+        const auto first_entry = [&](std::uint32_t g) { return walk.first_entry(g); };
+        const auto resample = [&](const auto& source) {
+            return restir::resample_tiles_and_bsdf<group_size, target_norm>(
+                rng, counts, tiles_, first_entry, source, lights_.falloff(), receiver, hits);
+        };
+        if (by_power_)
+            return resample(restir::PowerLightSampler{lights_.power_table().view()});
+        return resample(restir::UniformLightSampler{lights_.lights().light_count()});
+    }
+
 protected:
     const restir::LightTileArrays& block_tiles() const override { return tiles_; }
 
@@ -150,6 +188,12 @@ public:
                                 restir::Pcg32& rng) const override {
         return bvh_reservoir(s, rng);
     }
+    // The BVH's draws beside BSDF candidates, weighed by the BVH's pmf at the surface.
+    std::optional<Reservoir> with_bsdf_candidates(std::uint32_t, std::uint32_t, std::uint32_t,
+                                                  const restir::CandidateCounts& counts,
+                                                  const restir::GlossyReceiver& receiver,
+                                                  const EmitterHits& hits,
+                                                  restir::Pcg32& rng) const override;
 
 private:
     void build() {
@@ -207,6 +251,21 @@ Reservoir BvhCandidates::bvh_reservoir(const GSurface& s, restir::Pcg32& rng) co
             return candidate;
         },
         [&](const restir::LightPointSample& x) { return point_target(x, s); });
+}
+
+std::optional<Reservoir> BvhCandidates::with_bsdf_candidates(
+    std::uint32_t, std::uint32_t, std::uint32_t, const restir::CandidateCounts& counts,
+    const restir::GlossyReceiver& receiver, const EmitterHits& hits, restir::Pcg32& rng) const {
+    const restir::LightBvhView bvh = light_bvh_ ? light_bvh_->view() : restir::LightBvhView{};
+    const restir::DistantLights<> distant = lights_.distant_lights();
+    const auto sampler =
+        restir::with_distant_lights(bvh, distant.first, distant.count(), distant.probability);
+    const restir::ShadingPoint at{receiver.position, receiver.normal};
+    if (settings_.light_points == LightPoints::solid_angle)
+        return restir::resample_lights_and_bsdf<target_norm, restir::LightPoints::from_receiver>(
+            rng, counts, sampler, at, lights_.lights(), lights_.falloff(), receiver, hits);
+    return restir::resample_lights_and_bsdf<target_norm>(rng, counts, sampler, at, lights_.lights(),
+                                                         lights_.falloff(), receiver, hits);
 }
 
 // ReGIR (--source grid): the scene's box in about cubic cells, `settings.grid_cells` along its
@@ -376,6 +435,12 @@ void GridCandidates::look_up_cells(std::uint32_t frame_index, std::span<const GS
 const restir::LightTileArrays& InitialCandidates::block_tiles() const {
     static const restir::LightTileArrays none{};
     return none;
+}
+
+std::optional<Reservoir> InitialCandidates::with_bsdf_candidates(
+    std::uint32_t, std::uint32_t, std::uint32_t, const restir::CandidateCounts&,
+    const restir::GlossyReceiver&, const EmitterHits&, restir::Pcg32&) const {
+    return std::nullopt;
 }
 
 std::unique_ptr<InitialCandidates> make_initial_candidates(const RenderSettings& settings,

@@ -3,6 +3,7 @@
 // One interface for all: the source is chosen once, in make_initial_candidates.
 #pragma once
 
+#include "emitter_hits.hpp"
 #include "gbuffer.hpp"
 #include "light_set.hpp"
 #include "pixel_blocks.hpp"
@@ -13,6 +14,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 
 namespace pt {
@@ -50,6 +52,18 @@ public:
 
     /// The tiles that pixel blocks draw from (empty for sources that draw per pixel).
     virtual const restir::LightTileArrays& block_tiles() const;
+
+    /// Multi-strategy RIS over the source's own light candidates (`counts.light`, as
+    /// `initial_reservoir` draws them) and `counts.bsdf` BSDF candidates at `receiver`, each
+    /// weighted against the other strategy's density (--bsdf-candidates); nothing from a source
+    /// that cannot tell its density at a point a BSDF ray found (the grid's tiles, or tiles
+    /// whose points are drawn again from the surface).
+    virtual std::optional<Reservoir> with_bsdf_candidates(std::uint32_t x, std::uint32_t y,
+                                                          std::uint32_t frame_index,
+                                                          const restir::CandidateCounts& counts,
+                                                          const restir::GlossyReceiver& receiver,
+                                                          const EmitterHits& hits,
+                                                          restir::Pcg32& rng) const;
 };
 
 /// The source that `settings.source` names, over `lights`.

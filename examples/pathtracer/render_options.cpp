@@ -296,8 +296,9 @@ void add_light_sampling_options(CLI::App& app, RenderSettings& settings) {
 void add_glossy_options(CLI::App& app, RenderSettings& settings) {
     app.add_option("--bsdf-candidates", settings.bsdf_candidates,
                    "BSDF-sampled candidates per glossy pixel, combined by MIS with --candidates "
-                   "light candidates drawn per pixel by power (0: light candidates from --source "
-                   "alone)")
+                   "light candidates from --source (power or uniform tiles, the BVH; drawn per "
+                   "pixel by power with --source grid, or tiles with --light-points "
+                   "solid-angle) (0: light candidates from --source alone)")
         ->check(CLI::Range(0u, 1024u));
 }
 

@@ -65,6 +65,7 @@
 #include "restir/sampling/light_tiles.hpp"
 #include "restir/sampling/ris.hpp"
 #include "restir/sampling/ris_batch.hpp"
+#include "restir/sampling/tile_bsdf_candidates.hpp"
 #include "restir/vpl/emitter_points.hpp"
 #include "restir/vpl/photon_shooter.hpp"
 #include "restir/vpl/unified_light_set.hpp"

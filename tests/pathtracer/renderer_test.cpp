@@ -18,6 +18,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <iterator>
 #include <string>
 #include <utility>
 #include <vector>
@@ -631,22 +632,28 @@ TEST(Renderer, GlossyCornellBoxAgreesWithTheReference) {
         Method method;
         std::uint32_t bsdf_candidates;
         std::uint32_t frames;
+        pt::CandidateSource source = pt::CandidateSource::automatic;
     };
+    // BSDF candidates beside the tiles' candidates and beside the light BVH's.
     const Setup setups[] = {{Method::reference, 0u, 4u},
                             {Method::restir, 0u, 8u},
                             {Method::restir, 1u, 8u},
-                            {Method::ris, 2u, 8u}};
-    restir::test::RunningStats brightness[4];
+                            {Method::ris, 2u, 8u},
+                            {Method::ris, 1u, 8u, pt::CandidateSource::bvh}};
+    constexpr int setup_count = static_cast<int>(std::size(setups));
+    restir::test::RunningStats brightness[setup_count];
     for (std::uint64_t seed = 1; seed <= 8; ++seed)
-        for (int k = 0; k < 4; ++k) {
+        for (int k = 0; k < setup_count; ++k) {
             s.method = setups[k].method;
             s.bsdf_candidates = setups[k].bsdf_candidates;
+            s.source = setups[k].source;
+            s.candidates = setups[k].source == pt::CandidateSource::bvh ? 4u : 0u;
             s.spp = setups[k].method == Method::reference ? 16u : 1u;
             s.seed = seed;
             brightness[k].add(glossy_brightness(scene, s, setups[k].frames));
         }
     EXPECT_GT(brightness[0].mean(), 0.0);
-    for (int k = 1; k < 4; ++k) {
+    for (int k = 1; k < setup_count; ++k) {
         const double difference = brightness[k].mean() - brightness[0].mean();
         const double error =
             std::sqrt(brightness[0].variance() / 8.0 + brightness[k].variance() / 8.0);

@@ -1,6 +1,7 @@
 // Multi-strategy RIS over light and BSDF candidates: unbiased for area lights reached by both
 // strategies and for point lights that only light candidates reach, at diffuse and glossy
-// receivers; the truth by quadrature over the light.
+// receivers, with light candidates drawn per receiver or taken from a light tile; the truth by
+// quadrature over the light.
 #include <restir/bsdf/glossy_receiver.hpp>
 #include <restir/restir.hpp>
 
@@ -11,7 +12,9 @@
 
 #include <cmath>
 #include <cstdint>
+#include <span>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -108,22 +111,16 @@ glm::dvec3 truth(const TwoLights& lights, const R& receiver, bool with_point, in
     return sum;
 }
 
-// The mean of f(y) W over 40000 independent reservoirs of resample_lights_and_bsdf at
-// `receiver`, per channel, f shaded with `visible(sample)`, against `exact`: within 4 SE.
-template <restir::LightPoints Points = restir::LightPoints::area, class Lights, class Query,
-          class R, class Visible>
-void expect_mean(const Lights& lights, const Query& query, const R& receiver,
-                 restir::CandidateCounts counts, const Visible& visible, glm::dvec3 exact,
-                 const std::string& label) {
-    const restir::UniformLightSampler sampler{lights.light_count()};
-    const restir::ShadingPoint at{receiver.position, receiver.normal, 0.0f};
+// The mean of f(y) W over 40000 independent reservoirs `resample(rng)` at `receiver`, per
+// channel, f shaded with `visible(sample)`, against `exact`: within 4 SE.
+template <class R, class Resample, class Visible>
+void expect_mean_of(const R& receiver, const Resample& resample, const Visible& visible,
+                    glm::dvec3 exact, const std::string& label) {
     RunningStats stats[3];
     constexpr std::uint32_t trials = 40000u;
     for (std::uint32_t t = 0; t < trials; ++t) {
         restir::Pcg32 rng = restir::make_pixel_rng(t, 0u, 0u, 7u);
-        const restir::Reservoir<restir::LightPointSample> r =
-            restir::resample_lights_and_bsdf<restir::ChannelNorm::euclidean, Points>(
-                rng, counts, sampler, at, lights, restir::Falloff::exact(), receiver, query);
+        const restir::Reservoir<restir::LightPointSample> r = resample(rng);
         const glm::vec3 estimate =
             r.has_sample() && visible(r.sample)
                 ? restir::unshadowed_radiance(r.sample, receiver) * r.contribution_weight
@@ -137,6 +134,23 @@ void expect_mean(const Lights& lights, const Query& query, const R& receiver,
             << label << " channel " << c << ": mean " << stats[c].mean() << " truth " << exact[c]
             << " SE " << stats[c].standard_error();
     }
+}
+
+// expect_mean_of with resample_lights_and_bsdf, lights drawn uniformly.
+template <restir::LightPoints Points = restir::LightPoints::area, class Lights, class Query,
+          class R, class Visible>
+void expect_mean(const Lights& lights, const Query& query, const R& receiver,
+                 restir::CandidateCounts counts, const Visible& visible, glm::dvec3 exact,
+                 const std::string& label) {
+    const restir::UniformLightSampler sampler{lights.light_count()};
+    const restir::ShadingPoint at{receiver.position, receiver.normal, 0.0f};
+    expect_mean_of(
+        receiver,
+        [&](restir::Pcg32& rng) {
+            return restir::resample_lights_and_bsdf<restir::ChannelNorm::euclidean, Points>(
+                rng, counts, sampler, at, lights, restir::Falloff::exact(), receiver, query);
+        },
+        visible, exact, label);
 }
 
 template <class R>
@@ -322,6 +336,80 @@ TEST(BsdfCandidates, UnbiasedWithLightPointsDrawnFromTheReceiver) {
                                    truth(lights, glossy, true, 1024),
                                    at + ", glossy, lights and BSDF");
     }
+}
+
+} // namespace
+
+// BSDF candidates beside candidates from a light tile (restir::resample_tiles_and_bsdf). Every
+// trial refills one tile of 32 entries by power (powers 3 : 1 : 2, so the tiles' pmf is not the
+// uniform one of the other tests) and takes `counts.light` of them in groups of 8 from a random
+// group on: each entry is uniformly random, so unbiased over the trials.
+namespace {
+
+template <class Lights, class Query, class R, class Visible>
+void expect_tile_mean(const Lights& lights, const Query& query, const R& receiver,
+                      restir::CandidateCounts counts, const Visible& visible, glm::dvec3 exact,
+                      const std::string& label) {
+    constexpr std::uint32_t group = 8u, size = 32u;
+    const float powers[] = {3.0f, 1.0f, 2.0f};
+    const restir::AliasTable table(std::span<const float>(powers, lights.light_count()));
+    const restir::PowerLightSampler source{table.view()};
+    std::vector<float> planes(size * restir::tile_plane_count);
+    std::vector<restir::LightSampleRef> references(size);
+    const restir::LightTileArrays tiles{planes.data(), references.data(), 1u, size};
+    std::uint32_t trial = 0u;
+    expect_mean_of(
+        receiver,
+        [&](restir::Pcg32& rng) {
+            restir::presample_lights(
+                source, lights, size,
+                [&](std::uint32_t k) { return restir::make_pixel_rng(k, trial, 1u, 7u); },
+                [&](std::uint32_t k, const restir::PresampledLight& e) {
+                    tiles.store(0u, k, e, restir::Falloff::exact());
+                });
+            ++trial;
+            const std::uint32_t start = rng.next_uint();
+            return restir::resample_tiles_and_bsdf<group, restir::ChannelNorm::euclidean>(
+                rng, counts, tiles,
+                [&](std::uint32_t g) { return (start + g) % (size / group) * group; }, source,
+                restir::Falloff::exact(), receiver, query);
+        },
+        visible, exact, label);
+}
+
+TEST(TileBsdfCandidates, UnbiasedWithAreaAndPointLights) {
+    TwoLights lights;
+    const CosineReceiver diffuse{{0.1f, 0.0f, 0.2f}, {0.0f, 1.0f, 0.0f}, {0.7f, 0.5f, 0.3f}};
+    const glm::vec3 wo = glm::normalize(glm::vec3(-0.6f, 1.0f, -0.1f));
+    const auto all = [](const restir::LightPointSample&) { return true; };
+    for (const restir::CandidateCounts counts :
+         {restir::CandidateCounts{8u, 0u}, {8u, 1u}, {16u, 2u}}) {
+        const std::string mix =
+            std::to_string(counts.light) + " tile + " + std::to_string(counts.bsdf) + " BSDF";
+        expect_tile_mean(lights, RectangleQuery{&lights}, diffuse, counts, all,
+                         truth(lights, diffuse, true, 1024), "diffuse, " + mix);
+        for (const float roughness : {0.05f, 0.3f}) {
+            restir::GlossyReceiver glossy{{0.1f, 0.0f, 0.2f}, {0.0f, 1.0f, 0.0f}, wo, {}};
+            glossy.bsdf =
+                restir::GlossyBsdf::from_metallic_roughness({0.9f, 0.7f, 0.5f}, 1.0f, roughness);
+            expect_tile_mean(lights, RectangleQuery{&lights}, glossy, counts, all,
+                             truth(lights, glossy, true, 1024),
+                             "metal " + std::to_string(roughness) + ", " + mix);
+        }
+    }
+}
+
+TEST(TileBsdfCandidates, UnbiasedWithASky) {
+    const LightsAndSky lights;
+    const glm::vec3 wo = glm::normalize(glm::vec3(-0.6f, 1.0f, -0.1f));
+    restir::GlossyReceiver glossy{{0.1f, 0.0f, 0.2f}, {0.0f, 1.0f, 0.0f}, wo, {}};
+    glossy.bsdf = restir::GlossyBsdf::from_metallic_roughness({0.8f, 0.6f, 0.4f}, 0.5f, 0.2f);
+    expect_tile_mean(
+        lights, RectangleOrSkyQuery{&lights}, glossy, {8u, 2u},
+        [&](const restir::LightPointSample& s) {
+            return !s.is_distant() || !rectangle_blocks(lights, glossy.position, s.position);
+        },
+        truth_with_sky(lights, glossy, 1024), "glossy, 8 tile + 2 BSDF, sky");
 }
 
 } // namespace

@@ -155,7 +155,9 @@ struct GlossyBsdf {
 
     /// Solid-angle density with which `sample` returns wi: the mixture p pdf_specular +
     /// (1 - p) max(0, n.wi) / pi, p = specular_probability(n, wo); 0 when wo or wi is below.
-    RESTIR_HOST_DEVICE float pdf(glm::vec3 n, glm::vec3 wo, glm::vec3 wi) const {
+    /// Branchless and always inlined, as `evaluate_cos`.
+    RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE float pdf(glm::vec3 n, glm::vec3 wo,
+                                                     glm::vec3 wi) const {
         const float cos_o = glm::dot(n, wo);
         const float cos_i = glm::dot(n, wi);
         const glm::vec3 h = wo + wi;
@@ -198,8 +200,9 @@ struct GlossyBsdf {
     /// The probability that `sample` picks the specular lobe for this wo (depends on wo only):
     /// the lobes' luminance at n.wo, lum(F(n.wo)) against lum(diffuse_albedo) (1 - F(n.wo)),
     /// kept in [floor, 1 - floor] (`glossy_lobe_probability_floor`) when both are non-zero;
-    /// exactly 1 or 0 when one of them is black.
-    RESTIR_HOST_DEVICE float specular_probability(glm::vec3 n, glm::vec3 wo) const {
+    /// exactly 1 or 0 when one of them is black. Always inlined: a loop over wi hoists it.
+    RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE float specular_probability(glm::vec3 n,
+                                                                      glm::vec3 wo) const {
         const float cos_o = glm::dot(n, wo);
         const float specular = detail::glossy_luminance(fresnel_schlick(specular_f0, cos_o));
         const float f0_max = max_of(max_of(specular_f0.x, specular_f0.y), specular_f0.z);

@@ -27,14 +27,15 @@ struct GlossyReceiver {
     float sphere_min_alpha = 0.0f;
 
     /// f(wo, wi) max(0, n.wi) (`GlossyBsdf::evaluate_cos`: branch-free, for the batch loop).
-    RESTIR_HOST_DEVICE glm::vec3 reflected(glm::vec3 wi) const {
+    RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE glm::vec3 reflected(glm::vec3 wi) const {
         return bsdf.evaluate_cos(normal, wo, wi);
     }
     /// The same for light from a sphere of angular radius `sphere_radius` (its radius over its
     /// distance; 0 for a point of an area light): the specular lobe widened as a sphere light
     /// widens it, alpha + sphere_radius / 2 (Karis 2013, "Real Shading in Unreal Engine 4"), and
     /// to at least `sphere_min_alpha`.
-    RESTIR_HOST_DEVICE glm::vec3 reflected(glm::vec3 wi, float sphere_radius) const {
+    RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE glm::vec3 reflected(glm::vec3 wi,
+                                                               float sphere_radius) const {
         const float alpha = ggx_alpha(bsdf.roughness);
         const float widened = min_of(max_of(alpha + 0.5f * sphere_radius, sphere_min_alpha), 1.0f);
         return bsdf.evaluate_cos(normal, wo, wi, sphere_radius > 0.0f ? widened : alpha);
@@ -45,7 +46,9 @@ struct GlossyReceiver {
         return {s.wi, s.pdf};
     }
     /// The solid-angle density of `sample_direction` at `wi`.
-    RESTIR_HOST_DEVICE float direction_pdf(glm::vec3 wi) const { return bsdf.pdf(normal, wo, wi); }
+    RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE float direction_pdf(glm::vec3 wi) const {
+        return bsdf.pdf(normal, wo, wi);
+    }
 };
 
 static_assert(SamplingReceiver<GlossyReceiver>);

@@ -68,7 +68,8 @@ static_assert(Receiver<LambertianReceiver>);
 /// `receiver.reflected(wi, sphere_radius)` where the receiver has it, else
 /// `receiver.reflected(wi)`.
 template <Receiver R>
-RESTIR_HOST_DEVICE glm::vec3 reflected_from(const R& receiver, glm::vec3 wi, float sphere_radius) {
+RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE glm::vec3 reflected_from(const R& receiver, glm::vec3 wi,
+                                                                float sphere_radius) {
     if constexpr (requires { receiver.reflected(wi, sphere_radius); })
         return receiver.reflected(wi, sphere_radius);
     else

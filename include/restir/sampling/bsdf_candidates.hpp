@@ -111,6 +111,48 @@ RESTIR_HOST_DEVICE float light_point_pdf(const Lights& lights, const LightHit& h
 }
 } // namespace detail
 
+namespace detail {
+/// Streams `counts.bsdf` BSDF candidates (a direction from `receiver`, the light it hits from
+/// `query`) into `reservoir` with the balance heuristic against `counts.light` light candidates:
+///   w = p-hat(x) / (M_light p_light(x) + M_bsdf p_bsdf(x)),
+/// `light_pdf(hit)` being p_light of the hit's point (per unit area; per steradian for a distant
+/// light's direction). Uses 3 numbers per candidate and 1 to stream it.
+template <ChannelNorm Norm, UniformRng Rng, SamplingReceiver R, LightHitQuery Query, class LightPdf>
+RESTIR_HOST_DEVICE void stream_bsdf_candidates(Rng& rng, Reservoir<LightPointSample>& reservoir,
+                                               const CandidateCounts& counts,
+                                               const Falloff& falloff, const R& receiver,
+                                               const Query& query, const LightPdf& light_pdf) {
+    const glm::vec3 from = glm::vec3(receiver.position);
+    const float m_light = static_cast<float>(counts.light);
+    const float m_bsdf = static_cast<float>(counts.bsdf);
+    for (std::uint32_t i = 0; i < counts.bsdf; ++i) {
+        const float u_lobe = next_float(rng);
+        const float u0 = next_float(rng);
+        const float u1 = next_float(rng);
+        const DirectionSample direction = receiver.sample_direction(u_lobe, u0, u1);
+        LightPointSample x;
+        float weight = 0.0f;
+        float target_value = 0.0f;
+        if (direction.pdf > 0.0f) {
+            const LightHit hit = query.find_light(from, direction.wi);
+            if (hit.found && !hit.point.is_delta) {
+                const float area_pdf = static_cast<float>(hit.point.area_pdf);
+                x = make_light_point_sample(hit.light_id, hit.point, falloff);
+                target_value =
+                    fold_channels<Norm>(unshadowed_radiance(x, receiver)); // p-hat / area_pdf
+                const float p_light = static_cast<float>(light_pdf(hit));
+                // The direction's own density, converted: no second evaluation of the pdf.
+                const float p_bsdf = x.is_distant() ? direction.pdf
+                                                    : solid_angle_to_area_pdf(direction.pdf, from,
+                                                                              x.position, x.normal);
+                weight = safe_divide(target_value * area_pdf, m_light * p_light + m_bsdf * p_bsdf);
+            }
+        }
+        reservoir.stream(x, weight, target_value, next_float(rng));
+    }
+}
+} // namespace detail
+
 /// Multi-strategy RIS over `counts.light` light candidates (a light from `sampler` at `at`, a
 /// uniform uv on it, `lights.sample_point`) and `counts.bsdf` BSDF candidates (a direction from
 /// `receiver`, the light it hits from `query`), with the balance heuristic over candidate counts
@@ -175,31 +217,11 @@ requires(Points == LightPoints::area || ReceiverLightDensity<Lights>)
         }
         reservoir.stream(x, weight, target_value, next_float(rng));
     }
-    for (std::uint32_t i = 0; i < counts.bsdf; ++i) {
-        const float u_lobe = next_float(rng);
-        const float u0 = next_float(rng);
-        const float u1 = next_float(rng);
-        const DirectionSample direction = receiver.sample_direction(u_lobe, u0, u1);
-        LightPointSample x;
-        float weight = 0.0f;
-        float target_value = 0.0f;
-        if (direction.pdf > 0.0f) {
-            const LightHit hit = query.find_light(from, direction.wi);
-            if (hit.found && !hit.point.is_delta) {
-                const float area_pdf = static_cast<float>(hit.point.area_pdf);
-                x = make_light_point_sample(hit.light_id, hit.point, falloff);
-                target_value = target(x); // p-hat / area_pdf
-                const float p_light = sampler.pmf(at, hit.light_id) *
-                                      detail::light_point_pdf<Points>(lights, hit, from);
-                // The direction's own density, converted: no second evaluation of the pdf.
-                const float p_bsdf = x.is_distant() ? direction.pdf
-                                                    : solid_angle_to_area_pdf(direction.pdf, from,
-                                                                              x.position, x.normal);
-                weight = safe_divide(target_value * area_pdf, m_light * p_light + m_bsdf * p_bsdf);
-            }
-        }
-        reservoir.stream(x, weight, target_value, next_float(rng));
-    }
+    detail::stream_bsdf_candidates<Norm>(
+        rng, reservoir, counts, falloff, receiver, query, [&](const LightHit& hit) {
+            return sampler.pmf(at, hit.light_id) *
+                   detail::light_point_pdf<Points>(lights, hit, from);
+        });
     reservoir.finalize_normalized(1.0f);
     return reservoir;
 }

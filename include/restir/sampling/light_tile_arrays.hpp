@@ -44,6 +44,10 @@ enum class TilePlane : std::uint32_t {
     /// subtracted from it), which needs no plane of its own.
     min_distance_squared,
     inverse_pdf, ///< 1 / p of the entry's source density (0 if p = 0).
+    /// 1 / area_pdf of the entry's point on its light (per steradian for a distant light's
+    /// direction); 0 for a delta light. What turns another strategy's density (a BSDF's, in
+    /// the area measure) into the entry's measure, for MIS (sampling/tile_bsdf_candidates.hpp).
+    inverse_point_pdf,
     count
 };
 
@@ -66,9 +70,9 @@ inline constexpr std::uint32_t tile_group_size = 8u;
 /// planes of floats in groups ("array of structures of arrays"): the entries are cut into
 /// groups of `tile_group_size` consecutive ones, and group g keeps its planes one after the
 /// other, plane k of it at floats [(g * tile_plane_count + k) * tile_group_size, ... +
-/// tile_group_size) of `planes`. A group is 416 contiguous bytes, so a block of candidates reads
-/// neighbouring cache lines rather than one line in each of 13 distant arrays. `references`
-/// holds the entries' light references in entry order. A view over the caller's memory
+/// tile_group_size) of `planes`. A group is 448 contiguous bytes (7 cache lines), so a block of
+/// candidates reads neighbouring lines rather than one line in each of 14 distant arrays.
+/// `references` holds the entries' light references in entry order. A view over the caller's memory
 /// (device memory for a kernel, `planes` 16-byte aligned: device code reads it in 16-byte
 /// loads); the caller refills it every frame.
 struct LightTileArrays {
@@ -144,6 +148,8 @@ struct LightTileArrays {
         put(TilePlane::yuksel_radius_squared, max_of(s.falloff, 0.0f));
         put(TilePlane::min_distance_squared, s.is_distant() ? -1.0f : max_of(-s.falloff, 0.0f));
         put(TilePlane::inverse_pdf, usable ? 1.0f / entry.pdf : 0.0f);
+        const bool has_measure = usable && !entry.point.is_delta && entry.point.area_pdf > 0.0f;
+        put(TilePlane::inverse_point_pdf, has_measure ? 1.0f / entry.point.area_pdf : 0.0f);
         references[global] = entry.reference;
     }
 };
@@ -169,16 +175,28 @@ RESTIR_HOST_DEVICE float tile_entry_target(const Value& value, glm::vec3 positio
     return is_valid_weight(v) ? v : 0.0f;
 }
 
-/// p-hat of one tile entry at any receiver: its unshadowed radiance, folded.
-template <ChannelNorm Norm, class Value, class R>
-RESTIR_HOST_DEVICE float tile_entry_radiance_target(const Value& value, glm::vec3 position,
-                                                    const R& receiver) {
+/// The offset x = position - positional * receiver from a receiver at `position` to a tile
+/// entry, its squared length and one over its length (0 at 0).
+struct TileOffset {
+    float x, y, z, d2, inverse_distance;
+};
+
+template <class Value>
+RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE TileOffset tile_entry_offset(const Value& value,
+                                                                    glm::vec3 position) {
     const float positional = tile_positional(value(TilePlane::min_distance_squared));
     const float x = value(TilePlane::position_x) - positional * position.x;
     const float y = value(TilePlane::position_y) - positional * position.y;
     const float z = value(TilePlane::position_z) - positional * position.z;
     const float d2 = x * x + y * y + z * z;
-    const float inverse_distance = d2 > 0.0f ? 1.0f / std::sqrt(d2) : 0.0f;
+    return {x, y, z, d2, d2 > 0.0f ? 1.0f / std::sqrt(d2) : 0.0f};
+}
+
+/// p-hat of one tile entry at any receiver: its unshadowed radiance, folded.
+template <ChannelNorm Norm, class Value, class R>
+RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE float
+tile_entry_radiance_target(const Value& value, glm::vec3 position, const R& receiver) {
+    const auto [x, y, z, d2, inverse_distance] = tile_entry_offset(value, position);
     const float factor = folded_arrival_factor(
         x, y, z, value(TilePlane::normal_x), value(TilePlane::normal_y), value(TilePlane::normal_z),
         value(TilePlane::isotropic), value(TilePlane::yuksel_radius_squared),
@@ -194,13 +212,26 @@ RESTIR_HOST_DEVICE float tile_entry_radiance_target(const Value& value, glm::vec
     return is_valid_weight(v) ? v : 0.0f;
 }
 
-/// The loop of `evaluate_tile_block`: `lane_target(value)` is p-hat of the entry whose plane
-/// values `value(TilePlane)` reads. A block covers whole groups, or `Size` (1, 2 or 4)
+/// One lane of a `CandidateBlock`: p-hat and the inverse source density.
+struct TileLane {
+    float target;
+    float inverse_pdf;
+};
+
+/// The lane of the entry whose plane values `value(TilePlane)` reads, with target `target`
+/// and the entry's own inverse pdf.
+template <class Value>
+RESTIR_HOST_DEVICE TileLane tile_lane(const Value& value, float target) {
+    return {target, value(TilePlane::inverse_pdf)};
+}
+
+/// The loop of `evaluate_tile_block`: `lane_of(value)` is the `TileLane` of the entry whose
+/// plane values `value(TilePlane)` reads. A block covers whole groups, or `Size` (1, 2 or 4)
 /// consecutive entries inside one group.
-template <std::uint32_t Size, class LaneTarget>
+template <std::uint32_t Size, class LaneOf>
 RESTIR_HOST_DEVICE std::uint32_t
 evaluate_tile_block_with(const LightTileArrays& tiles, std::uint32_t tile, std::uint32_t first,
-                         CandidateBlock<Size>& block, const LaneTarget& lane_target) {
+                         CandidateBlock<Size>& block, const LaneOf& lane_of) {
     static_assert(Size % tile_group_size == 0u || tile_group_size % Size == 0u,
                   "blocks cover whole groups of tile entries, or a part of one");
     // Entries of one group that a block reads: all of them, or its own `Size`.
@@ -238,8 +269,9 @@ evaluate_tile_block_with(const LightTileArrays& tiles, std::uint32_t tile, std::
                     else
                         return v;
                 };
-                block.target[group * lanes + quad + j] = lane_target(value);
-                block.inverse_pdf[group * lanes + quad + j] = value(TilePlane::inverse_pdf);
+                const TileLane lane = lane_of(value);
+                block.target[group * lanes + quad + j] = lane.target;
+                block.inverse_pdf[group * lanes + quad + j] = lane.inverse_pdf;
             }
         }
 #else
@@ -252,8 +284,9 @@ evaluate_tile_block_with(const LightTileArrays& tiles, std::uint32_t tile, std::
             const auto value = [&](TilePlane k) {
                 return planes[static_cast<std::uint32_t>(k) * tile_group_size + i];
             };
-            target[i] = lane_target(value);
-            weight_scale[i] = value(TilePlane::inverse_pdf);
+            const TileLane lane = lane_of(value);
+            target[i] = lane.target;
+            weight_scale[i] = lane.inverse_pdf;
         }
         for (std::uint32_t i = 0; i < lanes; ++i) {
             block.target[group * lanes + i] = target[i];
@@ -283,7 +316,8 @@ evaluate_tile_block(const LightTileArrays& tiles, std::uint32_t tile, std::uint3
                     glm::vec3 position, glm::vec3 normal, glm::vec3 channel_weights,
                     CandidateBlock<Size>& block) {
     return detail::evaluate_tile_block_with(tiles, tile, first, block, [&](const auto& value) {
-        return detail::tile_entry_target<Norm>(value, position, normal, channel_weights);
+        return detail::tile_lane(
+            value, detail::tile_entry_target<Norm>(value, position, normal, channel_weights));
     });
 }
 
@@ -302,7 +336,8 @@ evaluate_tile_block(const LightTileArrays& tiles, std::uint32_t tile, std::uint3
     } else {
         const glm::vec3 position = receiver.position;
         return detail::evaluate_tile_block_with(tiles, tile, first, block, [&](const auto& value) {
-            return detail::tile_entry_radiance_target<Norm>(value, position, receiver);
+            return detail::tile_lane(
+                value, detail::tile_entry_radiance_target<Norm>(value, position, receiver));
         });
     }
 }

@@ -79,22 +79,22 @@ RESTIR_HOST_DEVICE constexpr BlockSelection select_in_block(const CandidateBlock
     return selection;
 }
 
-/// Batch RIS over `candidate_count` candidates (M), taken in blocks of `BlockSize`:
+/// Streams `candidate_count` candidates (M), taken in blocks of `BlockSize`, into `reservoir`
+/// (over handles):
 ///   `evaluate_block(b, block)` -> std::uint32_t: fills `block` (a CandidateBlock<BlockSize>)
 ///   with the target values and inverse source densities of block b's candidates, and returns
 ///   the handle of its lane 0; lane i's handle is that plus i (for instance the index of the
 ///   block's first entry in a structure-of-arrays light buffer). When M is not a multiple of
 ///   the block size, the lanes of the last block beyond M are ignored.
-/// Returns the finalised reservoir over handles: W = w_sum / (M p-hat(y)) (Eq. 6). Two uniform
-/// numbers per block (the block's lane, then the reservoir update) instead of one per
-/// candidate. f(y) W is unbiased under the conditions of `resample_ris`.
+/// Two uniform numbers per block (the block's lane, then the reservoir update) instead of one
+/// per candidate. Leaves `reservoir` unfinalised, for candidates of other strategies to follow
+/// (with MIS weights in `inverse_pdf`, sampling/tile_bsdf_candidates.hpp).
 template <std::uint32_t BlockSize, UniformRng Rng, class EvaluateBlock>
 requires(std::invocable<EvaluateBlock&, std::uint32_t, CandidateBlock<BlockSize>&>)
-    RESTIR_HOST_DEVICE Reservoir<std::uint32_t> resample_ris_batch(Rng& rng,
-                                                                   std::uint32_t candidate_count,
-                                                                   EvaluateBlock&& evaluate_block) {
+    RESTIR_HOST_DEVICE
+    void stream_ris_batch(Rng& rng, Reservoir<std::uint32_t>& reservoir,
+                          std::uint32_t candidate_count, EvaluateBlock&& evaluate_block) {
     const std::uint32_t block_count = (candidate_count + BlockSize - 1u) / BlockSize;
-    Reservoir<std::uint32_t> reservoir;
     for (std::uint32_t b = 0; b < block_count; ++b) {
         CandidateBlock<BlockSize> block;
         const auto first = static_cast<std::uint32_t>(evaluate_block(b, block));
@@ -106,6 +106,18 @@ requires(std::invocable<EvaluateBlock&, std::uint32_t, CandidateBlock<BlockSize>
         reservoir.stream_group(first + selection.lane, selection.weight_sum, selection.target,
                                lanes, next_float(rng));
     }
+}
+
+/// Batch RIS over `candidate_count` candidates (M), `stream_ris_batch` into an empty
+/// reservoir. Returns the finalised reservoir over handles: W = w_sum / (M p-hat(y)) (Eq. 6).
+/// f(y) W is unbiased under the conditions of `resample_ris`.
+template <std::uint32_t BlockSize, UniformRng Rng, class EvaluateBlock>
+requires(std::invocable<EvaluateBlock&, std::uint32_t, CandidateBlock<BlockSize>&>)
+    RESTIR_HOST_DEVICE Reservoir<std::uint32_t> resample_ris_batch(Rng& rng,
+                                                                   std::uint32_t candidate_count,
+                                                                   EvaluateBlock&& evaluate_block) {
+    Reservoir<std::uint32_t> reservoir;
+    stream_ris_batch<BlockSize>(rng, reservoir, candidate_count, evaluate_block);
     reservoir.finalize();
     return reservoir;
 }
