@@ -570,7 +570,8 @@ __global__ void solid_angle_kernel(const glm::vec3* corners, float* out) {
 }
 
 // Glossy receivers: the batch target loop at a GlossyReceiver (with the widened lobe of VPL
-// spheres), and multi-strategy RIS over light and BSDF candidates with an emitter query.
+// spheres), and multi-strategy RIS over light and BSDF candidates with an emitter query, the
+// light candidates from a sampler and from light tiles.
 struct NoEmitterHit {
     RESTIR_HOST_DEVICE restir::LightHit find_light(glm::vec3, glm::vec3) const { return {}; }
 };
@@ -596,8 +597,13 @@ __global__ void glossy_receiver_kernel(float* planes, restir::LightSampleRef* re
     const restir::Reservoir<restir::LightPointSample> mixed =
         restir::resample_lights_and_bsdf(rng, {8u, 2u}, sampler, at, lights,
                                          restir::Falloff::yuksel(0.05f), receiver, NoEmitterHit{});
+    const restir::Reservoir<restir::LightPointSample> from_tiles =
+        restir::resample_tiles_and_bsdf<8u, restir::ChannelNorm::euclidean>(
+            rng, {16u, 1u}, tiles, [&](std::uint32_t g) { return (i % 4u) * 64u + (g % 8u) * 8u; },
+            sampler, restir::Falloff::yuksel(0.05f), receiver, NoEmitterHit{});
     out[i] = picked.contribution_weight +
-             mixed.contribution_weight * restir::unshadowed_radiance(mixed.sample, receiver).x;
+             mixed.contribution_weight * restir::unshadowed_radiance(mixed.sample, receiver).x +
+             from_tiles.contribution_weight;
 }
 
 // The environment light: a draw, the pdf and radiance of its direction, and the mapping both
