@@ -46,6 +46,11 @@ inline float surface_depth(const GSurface& s) { return s.depth; }
 inline bool is_valid_surface(const GSurface& s) { return s.valid; }
 /// True when the surface reflects as albedo / pi alone (no specular lobe).
 inline bool is_lambertian(const GSurface& s) { return s.specular == 0u && s.metallic == 0u; }
+/// The perceptual roughness that reuse decisions read (restir::reuse_roughness): the
+/// material's, 1 for a Lambertian surface.
+inline float surface_roughness(const GSurface& s) {
+    return is_lambertian(s) ? 1.0f : static_cast<float>(s.roughness) * (1.0f / 65535.0f);
+}
 /// The surface's reflection (Material::bsdf, from the packed material); F0 = 0 for a
 /// Lambertian surface.
 inline restir::GlossyBsdf surface_bsdf(const GSurface& s) {

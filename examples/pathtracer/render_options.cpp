@@ -263,6 +263,15 @@ void add_light_sampling_options(CLI::App& app, RenderSettings& settings) {
     app.add_option("--permutation-sampling", frame.temporal.permutation_sampling,
                    "Temporal reuse reads the history of a pixel permuted per frame in 2x2 "
                    "blocks (true/false)");
+    app.add_option("--permutation-min-roughness", frame.temporal.permutation_min_roughness,
+                   "Permutation sampling only at surfaces at least this rough (perceptual "
+                   "roughness; Lambertian surfaces count as 1); smoother ones read their own "
+                   "pixel's history")
+        ->check(finite_number & CLI::Range(0.0f, 1.0f));
+    app.add_option("--spatial-min-roughness", frame.spatial.min_roughness,
+                   "Surfaces smoother than this (perceptual roughness; Lambertian surfaces count "
+                   "as 1) take no spatial neighbours")
+        ->check(finite_number & CLI::Range(0.0f, 1.0f));
     app.add_option("--packed-history", settings.packed_history,
                    "Keep the temporal history packed, 28 bytes a pixel instead of 64, its light "
                    "points decoded from the light set when read: the same image, less memory, a "

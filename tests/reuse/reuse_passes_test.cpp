@@ -195,6 +195,31 @@ TEST(TemporalReuse, PermutationSamplingPermutesTwoByTwoBlocks) {
     EXPECT_TRUE(moved);
 }
 
+// history_pixel_at permutes at receivers at least permutation_min_roughness rough and reads
+// the reprojected pixel itself at smoother ones.
+TEST(TemporalReuse, SmoothReceiversReadTheirOwnPixelsHistory) {
+    restir::TemporalParams params = restir::default_temporal_params();
+    params.permutation_sampling = true;
+    params.permutation_min_roughness = 0.15f;
+    Point mirror, rough;
+    mirror.material = 1; // 0.1
+    rough.material = 5;  // 0.5
+    bool rough_moved = false;
+    for (std::uint32_t frame = 0; frame < 8u; ++frame)
+        for (int y = 0; y < 4; ++y)
+            for (int x = 0; x < 4; ++x) {
+                const PixelCoord p = restir::history_pixel_at(mirror, {x, y}, params, frame);
+                EXPECT_EQ(p.x, x);
+                EXPECT_EQ(p.y, y);
+                const PixelCoord q = restir::history_pixel_at(rough, {x, y}, params, frame);
+                const PixelCoord r = restir::history_pixel({x, y}, params, frame);
+                EXPECT_EQ(q.x, r.x);
+                EXPECT_EQ(q.y, r.y);
+                rough_moved = rough_moved || q.x != x || q.y != y;
+            }
+    EXPECT_TRUE(rough_moved);
+}
+
 TEST(TemporalReuse, PermutationBitsSetTheBlockSize) {
     restir::TemporalParams params = restir::default_temporal_params();
     params.permutation_sampling = true;
@@ -256,6 +281,40 @@ TEST(SpatialReuse, IgnoresNonFiniteNeighboursAndInvalidReceivers) {
                                          restir::default_spatial_params(), {}, bridge, rng,
                                          offsets),
                 reservoirs[4]);
+}
+
+// Receivers smoother than SpatialParams::min_roughness take no neighbours; rougher ones and
+// surfaces without a roughness (Lambertian, 1) do; the neighbours' own roughness does not matter.
+TEST(SpatialReuse, SmoothReceiversBelowTheMinimumRoughnessTakeNoNeighbours) {
+    const restir::ReuseBridge bridge{Target{}, AlwaysVisible{}};
+    const restir::NeighbourOffsets offsets = restir::make_neighbour_offsets();
+    std::vector<Reservoir<LightId>> reservoirs(9, finalised(1u, 4u, 1.0f));
+    reservoirs[4] = finalised(2u, 4u, 1.5f);
+    std::vector<Point> surfaces(9);
+    const restir::ImageView<const Reservoir<LightId>> view{reservoirs.data(), 3u, 3u};
+    restir::SpatialParams params = restir::default_spatial_params();
+    params.neighbour_count = 15u;
+    params.radius = 1.5f;
+    params.min_roughness = 0.15f;
+    for (const int material : {0, 1, 2, 10}) {
+        surfaces[4].material = material; // roughness material / 10
+        const restir::ImageView<const Point> surface_view{surfaces.data(), 3u, 3u};
+        for (BiasCorrection mode : all_modes) {
+            restir::Pcg32 rng = restir::make_pixel_rng(4u, 0u, 0u);
+            const Reservoir<LightId> out =
+                restir::spatial_resample({1, 1}, view, surface_view, params,
+                                         restir::ReuseParams{mode}, bridge, rng, offsets);
+            if (material < 2) { // 0 and 0.1: below 0.15, the canonical reservoir alone
+                EXPECT_EQ(out.sample.id, 2u);
+                EXPECT_EQ(out.candidate_count, 4u);
+                EXPECT_FLOAT_EQ(out.contribution_weight, reservoirs[4].contribution_weight);
+            } else {
+                EXPECT_GT(out.candidate_count, 4u) << "material " << material;
+            }
+        }
+    }
+    EXPECT_EQ(restir::reuse_roughness(Point{{0, 0, 1}, 1.0f, true, 3}), 0.3f);
+    EXPECT_EQ(restir::reuse_roughness(glm::vec3(0.0f)), 1.0f); // no surface_roughness: 1
 }
 
 TEST(SpatialReuse, AddsTheCandidateCountsOfSimilarNeighbours) {

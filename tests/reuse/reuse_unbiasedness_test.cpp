@@ -41,6 +41,10 @@ struct ReuseSetup {
     // in proportion to the receiver's BSDF density towards them (the glossy world's guided_pmf).
     bool guided = false;
     bool sky = false; // the sky world: a third of the lights distant (directions)
+    // Permutation sampling, and receivers smoother than 0.3 (the first two columns) take
+    // neither spatial neighbours nor a permuted history (`min_roughness`,
+    // `permutation_min_roughness`).
+    bool smooth_apart = false;
 };
 
 std::string name_of(const ReuseSetup& s) {
@@ -50,7 +54,8 @@ std::string name_of(const ReuseSetup& s) {
     return std::string(modes[static_cast<int>(s.mode)]) + "/" + passes[static_cast<int>(s.passes)] +
            (s.visibility_reuse ? "" : "/no-visibility-reuse") + (s.retest ? "/retested" : "") +
            (s.mis_rays ? "" : "/ray-free") + (s.glossy ? "/glossy" : "") +
-           (s.guided ? "/bsdf-candidates" : "") + (s.sky ? "/sky" : "");
+           (s.guided ? "/bsdf-candidates" : "") + (s.sky ? "/sky" : "") +
+           (s.smooth_apart ? "/smooth-apart" : "");
 }
 
 void PrintTo(const ReuseSetup& setup, std::ostream* os) { *os << name_of(setup); }
@@ -70,6 +75,11 @@ public:
                                                     : restir::ReuseVisibility::traced;
         spatial_.neighbour_count = 3u;
         spatial_.radius = 2.0f;
+        if (setup.smooth_apart) {
+            temporal_.permutation_sampling = true;
+            temporal_.permutation_min_roughness = 0.3f;
+            spatial_.min_roughness = 0.3f;
+        }
     }
 
     // Per-pixel statistics of the last frame's estimates over `trials` independent runs.
@@ -283,6 +293,15 @@ std::vector<ReuseSetup> unbiased_setups() {
                 setup.guided = guided;
                 setups.push_back(setup);
             }
+    // Smooth receivers apart: no spatial neighbours, their own pixel's history.
+    for (BiasCorrection mode : {BiasCorrection::balance_heuristic, BiasCorrection::pairwise,
+                                BiasCorrection::defensive_pairwise})
+        for (Passes passes : {Passes::two_spatial, Passes::both, Passes::fused}) {
+            ReuseSetup setup{mode, passes, true};
+            setup.glossy = true;
+            setup.smooth_apart = true;
+            setups.push_back(setup);
+        }
     // Distant lights (an environment's directions) beside points, at glossy receivers.
     for (BiasCorrection mode :
          {BiasCorrection::one_over_z, BiasCorrection::balance_heuristic, BiasCorrection::pairwise})

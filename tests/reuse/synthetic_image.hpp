@@ -43,6 +43,11 @@ inline glm::vec3 surface_position(const Patch& p) {
 inline glm::vec3 surface_normal(const Patch&) { return {0.0f, 0.0f, 1.0f}; }
 inline float surface_depth(const Patch&) { return 1.0f; }
 inline bool is_valid_surface(const Patch& p) { return p.valid; }
+/// The glossy world's roughness of patch p (restir::reuse_roughness; the reuse passes read it
+/// only where told to treat smooth receivers apart).
+inline float surface_roughness(const Patch& p) {
+    return 0.05f + 0.19f * static_cast<float>(p.id % width);
+}
 
 struct LightId {
     std::uint32_t id = 0u;

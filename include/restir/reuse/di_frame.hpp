@@ -339,7 +339,7 @@ requires(std::same_as<History, ImageView<const Reservoir<Sample>>> ||
             return found;
         const auto& here = surface_at(surfaces, pixel);
         const SimilarityParams& similarity = params.temporal.similarity;
-        const PixelCoord p = history_pixel(reproject(pixel), params.temporal, frame_index);
+        const PixelCoord p = history_pixel_at(here, reproject(pixel), params.temporal, frame_index);
         if constexpr (history_has_surfaces) {
             if (history.contains(p)) {
                 found.reservoir = history.load(p);

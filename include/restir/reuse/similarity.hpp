@@ -31,6 +31,16 @@ struct AnyMaterial {
     }
 };
 
+/// A surface's perceptual roughness for reuse decisions: `surface_roughness(s)`, found by
+/// argument-dependent lookup, where the surface type has it, else 1 (a Lambertian surface).
+template <class S>
+RESTIR_HOST_DEVICE float reuse_roughness(const S& s) {
+    if constexpr (requires { surface_roughness(s); })
+        return static_cast<float>(surface_roughness(s));
+    else
+        return 1.0f;
+}
+
 /// A material hook for glossy surfaces: accepts a neighbour whose roughness is within
 /// `max_difference` of the receiver's, so that a narrow lobe does not take samples chosen for a
 /// much wider one, nor the reverse (the lobe mismatch behind flicker on glossy surfaces). Reads

@@ -40,6 +40,11 @@ struct SpatialParams {
     std::uint32_t neighbour_count = 3u;
     /// Radius of the neighbourhood in pixels (the paper's 30).
     float radius = 30.0f;
+    /// Receivers smoother than this (`reuse_roughness`) take no neighbours: their canonical
+    /// reservoir passes through. A neighbour's sample seldom lies in a narrow lobe, and one
+    /// that does brings a weight bounded by the neighbour's integral, not the receiver's
+    /// (docs/noise-and-bias.md, "Narrow lobes"). 0: every receiver takes neighbours.
+    float min_roughness = 0.0f;
 };
 
 /// The paper's settings for the unbiased modes: k = 3 in 30 pixels.
@@ -232,7 +237,9 @@ find_spatial_neighbours(PixelCoord centre, const S& surface,
     using Set = SpatialNeighbours<Sample, S, Surfaces>;
     Set set;
     // Locals while searching: the set is the caller's memory.
-    const std::uint32_t count = min_of(params.neighbour_count, max_reuse_inputs - 1u);
+    const std::uint32_t count = reuse_roughness(surface) < params.min_roughness
+                                    ? 0u
+                                    : min_of(params.neighbour_count, max_reuse_inputs - 1u);
     std::uint32_t lends = 0u;
     for (std::uint32_t i = 0; i < count; ++i) {
         const PixelCoord p =

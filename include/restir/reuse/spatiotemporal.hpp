@@ -60,7 +60,7 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
                             const NeighbourOffsets& offsets = default_neighbour_offsets()) {
     if (!is_valid_surface(surface))
         return current;
-    const PixelCoord previous = history_pixel(reproject(pixel), temporal, frame_index);
+    const PixelCoord previous = history_pixel_at(surface, reproject(pixel), temporal, frame_index);
 
     const ReuseInput<Sample, S> history =
         reusable_input(previous, surface, previous_reservoirs, previous_surfaces,
@@ -70,6 +70,7 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
     SpatialParams neighbourhood;
     neighbourhood.similarity = temporal.similarity;
     neighbourhood.radius = spatial.radius;
+    neighbourhood.min_roughness = spatial.min_roughness;
     neighbourhood.neighbour_count =
         min_of(spatial.neighbour_count, max_reuse_inputs - 1u - history_count);
     const detail::HistoryAndNeighbours<Sample, S> inputs{

@@ -34,6 +34,10 @@ struct TemporalParams {
     /// The pattern XORs this many low bits of each coordinate: the history comes from within
     /// blocks of 2^bits x 2^bits pixels (1: 2 x 2, as in the paper). At most 15.
     std::uint32_t permutation_bits = 1u;
+    /// Permutation sampling only at receivers at least this rough (`reuse_roughness`): a
+    /// smoother one reads its own reprojected pixel's history, since a neighbour's sample
+    /// seldom lies in a narrow lobe (docs/noise-and-bias.md, "Narrow lobes"). 0: everywhere.
+    float permutation_min_roughness = 0.0f;
 };
 
 /// The paper's settings: 25 degrees / 10 %, cap 20.
@@ -66,6 +70,17 @@ RESTIR_HOST_DEVICE constexpr PixelCoord history_pixel(PixelCoord reprojected,
     const std::uint32_t mask = (1u << bits) - 1u;
     return {reprojected.x ^ static_cast<std::int32_t>(pattern & mask),
             reprojected.y ^ static_cast<std::int32_t>((pattern >> 32u) & mask)};
+}
+
+/// `history_pixel` for a receiver `surface`: not permuted where the surface is smoother than
+/// `params.permutation_min_roughness`.
+template <class S>
+RESTIR_HOST_DEVICE PixelCoord history_pixel_at(const S& surface, PixelCoord reprojected,
+                                               const TemporalParams& params,
+                                               std::uint32_t frame_index) {
+    if (reuse_roughness(surface) < params.permutation_min_roughness)
+        return reprojected;
+    return history_pixel(reprojected, params, frame_index);
 }
 
 /// The largest M a previous-frame reservoir may lend to a receiver whose own M is
@@ -116,11 +131,12 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
         const ReuseBridge<Target, Visibility, MaterialTest, Shift>& bridge, Rng& rng) {
     if (!is_valid_surface(surface))
         return current;
-    return temporal_combine(current, surface,
-                            reusable_input(history_pixel(reproject(pixel), params, frame_index),
-                                           surface, previous_reservoirs, previous_surfaces,
-                                           params.similarity, bridge.material_test),
-                            params, reuse, bridge, rng);
+    return temporal_combine(
+        current, surface,
+        reusable_input(history_pixel_at(surface, reproject(pixel), params, frame_index), surface,
+                       previous_reservoirs, previous_surfaces, params.similarity,
+                       bridge.material_test),
+        params, reuse, bridge, rng);
 }
 
 } // namespace restir
