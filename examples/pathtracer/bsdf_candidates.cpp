@@ -13,6 +13,7 @@ public:
                    const EmbreeScene& rays, const LightSet& lights, float ray_offset)
         : source_(std::move(source)), counts_{settings.candidates, settings.bsdf_candidates},
           rays_(rays), lights_(lights), ray_offset_(ray_offset),
+          max_roughness_(settings.bsdf_max_roughness),
           everywhere_(settings.environment_sampling == EnvironmentSampling::bsdf &&
                       lights.lights().environment_count() > 0u),
           from_receiver_(settings.light_points == LightPoints::solid_angle) {}
@@ -24,7 +25,8 @@ public:
 
     Reservoir initial_reservoir(std::uint32_t x, std::uint32_t y, std::uint32_t frame_index,
                                 const GSurface& s, restir::Pcg32& rng) const override {
-        if (is_lambertian(s) && !everywhere_)
+        // surface_roughness is 1 at Lambertian pixels.
+        if (!(surface_roughness(s) < max_roughness_) && !everywhere_)
             return source_->initial_reservoir(x, y, frame_index, s, rng);
         const restir::PowerLightSampler sampler{lights_.power_table().view()};
         const restir::ShadingPoint at{s.position, s.normal, 0.0f};
@@ -53,6 +55,7 @@ private:
     const EmbreeScene& rays_;
     const LightSet& lights_;
     float ray_offset_;
+    float max_roughness_; // --bsdf-max-roughness
     // --env-sampling bsdf: BSDF candidates at diffuse pixels too (cosine-weighted), the only
     // way to the environment.
     bool everywhere_;

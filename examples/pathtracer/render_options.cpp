@@ -304,11 +304,17 @@ void add_light_sampling_options(CLI::App& app, RenderSettings& settings) {
 // Sampling and reuse at glossy surfaces.
 void add_glossy_options(CLI::App& app, RenderSettings& settings) {
     app.add_option("--bsdf-candidates", settings.bsdf_candidates,
-                   "BSDF-sampled candidates per glossy pixel, combined by MIS with --candidates "
+                   "BSDF-sampled candidates per glossy pixel smoother than "
+                   "--bsdf-max-roughness, combined by MIS with --candidates "
                    "light candidates from --source (power or uniform tiles, the BVH; drawn per "
                    "pixel by power with --source grid, or tiles with --light-points "
                    "solid-angle) (0: light candidates from --source alone)")
         ->check(CLI::Range(0u, 1024u));
+    app.add_option("--bsdf-max-roughness", settings.bsdf_max_roughness,
+                   "BSDF candidates only at glossy pixels smoother than this (perceptual "
+                   "roughness): narrow lobes, which light candidates rarely hit; 1: every glossy "
+                   "pixel")
+        ->check(finite_number & CLI::Range(0.0f, 1.0f));
 }
 
 // How candidates' points on emitters are drawn.

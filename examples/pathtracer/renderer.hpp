@@ -63,10 +63,14 @@ struct RenderSettings {
                                ///< that error measurements see lighting noise only).
     /// RIS candidates per pixel (ris, restir); 0: the source's default (`resolved_candidates`).
     std::uint32_t candidates = 0;
-    /// BSDF-sampled candidates per glossy pixel (ris, restir), combined with `candidates` light
-    /// candidates drawn per pixel by power (restir::resample_lights_and_bsdf); 0: light
-    /// candidates from `source` alone.
-    std::uint32_t bsdf_candidates = 0;
+    /// BSDF-sampled candidates per glossy pixel smoother than `bsdf_max_roughness` (ris,
+    /// restir), combined by MIS with the `candidates` light candidates of `source`
+    /// (bsdf_candidates.hpp); 0: light candidates alone.
+    std::uint32_t bsdf_candidates = 1;
+    /// BSDF candidates at glossy pixels whose roughness is below this: narrow lobes, which
+    /// light candidates rarely hit (docs/noise-and-bias.md, "Narrow lobes"); 1: every glossy
+    /// pixel.
+    float bsdf_max_roughness = 0.1f;
     /// The environment's share of the light candidates drawn by power, in (0, 1); 0 takes it in
     /// proportion to its power (restir::environment_power over the scene's bounding sphere).
     float environment_share = 0.0f;

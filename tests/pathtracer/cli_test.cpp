@@ -122,6 +122,9 @@ TEST(Cli, BadInputIsOneLineAndStatusTwo) {
     expect_one_line_error(small("--frames -3"), "frames");
     expect_one_line_error(small("--source grid --grid-cells 0"), "grid-cells");
     expect_one_line_error(small("--source grid --grid-cells 257"), "grid-cells");
+    expect_one_line_error(small("--bsdf-max-roughness 1.5"), "bsdf-max-roughness");
+    expect_one_line_error(small("--spatial-min-roughness -0.1"), "spatial-min-roughness");
+    expect_one_line_error(small("--permutation-min-roughness nan"), "permutation-min-roughness");
     expect_one_line_error(small("--look-from 1,2"), "look-from");
     expect_one_line_error(small("--method restir --spp 4"), "--frames");
     expect_one_line_error(small("--method ris --gi restir-gi"), "--method restir");
@@ -397,7 +400,8 @@ TEST(Cli, BadEnvironmentMapsAreOneLineErrors) {
         expect_one_line_error(small(std::string("--scene sun-sky --env-share ") + value),
                               "--env-share");
     expect_one_line_error(small("--scene sun-sky --env-sampling cosine"), "--env-sampling");
-    expect_one_line_error(small("--scene sun-sky --env-sampling bsdf"), "--bsdf-candidates");
+    expect_one_line_error(small("--scene sun-sky --env-sampling bsdf --bsdf-candidates 0"),
+                          "--bsdf-candidates");
 }
 
 // A 1 x 1 map is a constant sky: the box renders under it, and the pixels that see out of the

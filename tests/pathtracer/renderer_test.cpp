@@ -360,6 +360,7 @@ TEST(Renderer, BsdfCandidatesBesideSolidAngleLightPointsEstimateTheSameImage) {
             s.gi = GlobalIllumination::none;
             s.candidates = 4;
             s.bsdf_candidates = 1;
+            s.bsdf_max_roughness = 1.0f; // every glossy pixel
             s.method = setup.method;
             s.light_points = setup.points;
             s.seed = seed;
@@ -612,6 +613,7 @@ TEST(Renderer, GlossyCornellBoxWithVplsAgreesWithTheReference) {
         for (int k = 0; k < 2; ++k) {
             s.method = k == 0 ? Method::reference : Method::restir;
             s.bsdf_candidates = k == 0 ? 0u : 1u;
+            s.bsdf_max_roughness = 1.0f; // every glossy pixel
             s.spp = k == 0 ? 32u : 1u;
             s.seed = seed;
             brightness[k].add(glossy_brightness(scene, s, k == 0 ? 4u : 16u));
@@ -633,21 +635,27 @@ TEST(Renderer, GlossyCornellBoxAgreesWithTheReference) {
         std::uint32_t bsdf_candidates;
         std::uint32_t frames;
         pt::CandidateSource source = pt::CandidateSource::automatic;
+        float narrow = 0.0f; // the narrow-lobe rules of reuse below this roughness
     };
-    // BSDF candidates beside the tiles' candidates and beside the light BVH's.
+    // BSDF candidates beside the tiles' candidates and beside the light BVH's; the floor (0.12)
+    // and the metal block (0.25) as narrow lobes, apart in reuse.
     const Setup setups[] = {{Method::reference, 0u, 4u},
                             {Method::restir, 0u, 8u},
                             {Method::restir, 1u, 8u},
                             {Method::ris, 2u, 8u},
-                            {Method::ris, 1u, 8u, pt::CandidateSource::bvh}};
+                            {Method::ris, 1u, 8u, pt::CandidateSource::bvh},
+                            {Method::restir, 1u, 8u, pt::CandidateSource::automatic, 0.3f}};
     constexpr int setup_count = static_cast<int>(std::size(setups));
     restir::test::RunningStats brightness[setup_count];
     for (std::uint64_t seed = 1; seed <= 8; ++seed)
         for (int k = 0; k < setup_count; ++k) {
             s.method = setups[k].method;
             s.bsdf_candidates = setups[k].bsdf_candidates;
+            s.bsdf_max_roughness = 1.0f; // every glossy pixel
             s.source = setups[k].source;
             s.candidates = setups[k].source == pt::CandidateSource::bvh ? 4u : 0u;
+            s.di_frame.spatial.min_roughness = setups[k].narrow;
+            s.di_frame.temporal.permutation_min_roughness = setups[k].narrow;
             s.spp = setups[k].method == Method::reference ? 16u : 1u;
             s.seed = seed;
             brightness[k].add(glossy_brightness(scene, s, setups[k].frames));

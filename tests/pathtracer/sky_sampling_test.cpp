@@ -68,6 +68,7 @@ void expect_agreement(const pt::Scene& scene, const std::vector<SkySetup>& setup
         s.di_frame.temporal_bias_correction = setup.correction;
         s.di_frame.spatial_bias_correction = setup.correction;
         s.bsdf_candidates = setup.bsdf_candidates;
+        s.bsdf_max_roughness = 1.0f; // every glossy pixel
         s.environment_sampling = setup.sampling;
         s.source = setup.source;
         s.packed_history = setup.packed_history;

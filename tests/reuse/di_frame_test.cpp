@@ -596,9 +596,14 @@ TEST(DiFramePresets, ChangeOnlyWhatTheyName) {
     EXPECT_EQ(fast.spatial.neighbour_count, balanced.spatial.neighbour_count);
     EXPECT_EQ(unbiased.spatial_bias_correction, BiasCorrection::pairwise);
     EXPECT_EQ(unbiased.temporal_bias_correction, BiasCorrection::pairwise);
+    EXPECT_EQ(unbiased.spatial.min_roughness, 0.1f);
+    EXPECT_EQ(unbiased.temporal.permutation_min_roughness, 0.1f);
+    EXPECT_EQ(paper.spatial.min_roughness, 0.0f);
+    EXPECT_EQ(paper.temporal.permutation_min_roughness, 0.0f);
     for (const restir::DiFrameParams& p : {balanced, fast}) {
         EXPECT_EQ(p.spatial_bias_correction, BiasCorrection::defensive_pairwise);
         EXPECT_EQ(p.temporal_bias_correction, BiasCorrection::defensive_pairwise);
+        EXPECT_EQ(p.spatial.min_roughness, 0.15f);
     }
     for (const restir::DiFrameParams& p : {unbiased, balanced, fast})
         EXPECT_FALSE(p.boiling_filter);

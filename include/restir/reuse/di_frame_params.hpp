@@ -51,13 +51,17 @@ RESTIR_HOST_DEVICE constexpr DiFrameParams default_di_frame_params() noexcept { 
 enum class DiFramePreset : std::uint8_t {
     /// Unbiased, for the frame and for the running mean of frames: pairwise MIS with traced
     /// MIS rays, 5 neighbours, a history cap of 4 with permutation sampling (consecutive frames
-    /// less alike, so that their mean converges faster). restir-render's defaults.
+    /// less alike, so that their mean converges faster), receivers smoother than roughness 0.1
+    /// (narrow lobes, `SpatialParams::min_roughness`, `TemporalParams::
+    /// permutation_min_roughness`) without spatial neighbours and with their own pixel's
+    /// history. restir-render's defaults.
     unbiased,
     /// Unbiased, for the frame alone: 3 neighbours and the paper's cap of 20 without
     /// permutation, with defensive pairwise MIS (`BiasCorrection::defensive_pairwise`: the
     /// pixel's own reservoir, strong after a long history, keeps a share of its own where
-    /// neighbours' targets differ); less error a frame for less time, a running mean that
-    /// converges slower.
+    /// neighbours' targets differ), and no spatial neighbours for receivers smoother than
+    /// roughness 0.15 (`SpatialParams::min_roughness`: neighbours' samples seldom lie in a
+    /// narrow lobe); less error a frame for less time, a running mean that converges slower.
     balanced,
     /// Biased, for speed: as `balanced`, with MIS weights that assume every sample visible
     /// (`ReuseVisibility::assumed`: no ray in reuse; a little light lost or gained near shadow
@@ -72,10 +76,13 @@ RESTIR_HOST_DEVICE constexpr DiFrameParams di_frame_preset(DiFramePreset preset)
         p.spatial.neighbour_count = 5u;
         p.temporal.history_cap_multiplier = 4u;
         p.temporal.permutation_sampling = true;
+        p.temporal.permutation_min_roughness = 0.1f;
+        p.spatial.min_roughness = 0.1f;
     }
     if (preset != DiFramePreset::unbiased) {
         p.temporal_bias_correction = BiasCorrection::defensive_pairwise;
         p.spatial_bias_correction = BiasCorrection::defensive_pairwise;
+        p.spatial.min_roughness = 0.15f;
     }
     if (preset == DiFramePreset::fast)
         p.visibility = ReuseVisibility::assumed;
