@@ -35,7 +35,7 @@ declare -A scene_flags=(
   [cornell-obj]="--scene ../shared/scenes/cornell-box.obj --materials diffuse --gi vpl --vpls 100000 --vpl-seed 7"
   [cornell-glossy]="--scene cornell-glossy --gi none"
   [sun-sky]="--scene sun-sky --gi none"
-  [glossy-floor]="--scene scripts/scenes/glossy-floor.obj --gi none"
+  [glossy-floor]="--scene scripts/scenes/glossy-floor.obj --look-from 0 1.5 5 --look-at 0 0 -1 --fov 60 --gi none"
 )
 
 printf '| scene | method | binary | frame ms | frame MSE mean / median | mean / median | worst-20 share | %s-frame MSE | bias | flicker |\n' "$frames"
