@@ -36,6 +36,7 @@ declare -A scene_flags=(
   [cornell-glossy]="--scene cornell-glossy --gi none"
   [sun-sky]="--scene sun-sky --gi none"
   [glossy-floor]="--scene scripts/scenes/glossy-floor.obj --look-from 0 1.5 5 --look-at 0 0 -1 --fov 60 --gi none"
+  [glossy-floor-vpls]="--scene scripts/scenes/glossy-floor.obj --look-from 0 1.5 5 --look-at 0 0 -1 --fov 60 --gi vpl --vpls 100000 --vpl-seed 7"
 )
 
 printf '| scene | method | binary | frame ms | frame MSE mean / median | mean / median | worst-20 share | %s-frame MSE | bias | flicker |\n' "$frames"
