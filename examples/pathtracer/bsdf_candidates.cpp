@@ -1,5 +1,6 @@
 #include "bsdf_candidates.hpp"
 
+#include <algorithm>
 #include <optional>
 #include <utility>
 
@@ -11,7 +12,11 @@ class BsdfCandidates final : public InitialCandidates {
 public:
     BsdfCandidates(std::unique_ptr<InitialCandidates> source, const RenderSettings& settings,
                    const EmbreeScene& rays, const LightSet& lights, float ray_offset)
-        : source_(std::move(source)), counts_{settings.candidates, settings.bsdf_candidates},
+        : source_(std::move(source)), counts_{settings.bsdf_light_candidates == 0u
+                                                  ? settings.candidates
+                                                  : std::min(settings.candidates,
+                                                             settings.bsdf_light_candidates),
+                                              settings.bsdf_candidates},
           rays_(rays), lights_(lights), ray_offset_(ray_offset),
           max_roughness_(settings.bsdf_max_roughness),
           everywhere_(settings.environment_sampling == EnvironmentSampling::bsdf &&

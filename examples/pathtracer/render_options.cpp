@@ -310,6 +310,10 @@ void add_glossy_options(CLI::App& app, RenderSettings& settings) {
                    "pixel by power with --source grid, or tiles with --light-points "
                    "solid-angle) (0: light candidates from --source alone)")
         ->check(CLI::Range(0u, 1024u));
+    app.add_option("--bsdf-light-candidates", settings.bsdf_light_candidates,
+                   "Light candidates beside BSDF candidates: at most this many of --candidates "
+                   "(0: all of them)")
+        ->check(CLI::Range(0u, 4096u));
     app.add_option("--bsdf-max-roughness", settings.bsdf_max_roughness,
                    "BSDF candidates only at glossy pixels smoother than this (perceptual "
                    "roughness): narrow lobes, which light candidates rarely hit; 1: every glossy "

@@ -71,6 +71,10 @@ struct RenderSettings {
     /// light candidates rarely hit (docs/noise-and-bias.md, "Narrow lobes"); 1: every glossy
     /// pixel.
     float bsdf_max_roughness = 0.1f;
+    /// Light candidates beside the BSDF candidates at those pixels: at most this many of
+    /// `candidates` (0: all of them). A narrow lobe's light comes mostly through its BSDF
+    /// candidate (docs/noise-and-bias.md, "Narrow lobes").
+    std::uint32_t bsdf_light_candidates = 4;
     /// The environment's share of the light candidates drawn by power, in (0, 1); 0 takes it in
     /// proportion to its power (restir::environment_power over the scene's bounding sphere).
     float environment_share = 0.0f;
