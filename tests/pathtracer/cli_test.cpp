@@ -123,6 +123,7 @@ TEST(Cli, BadInputIsOneLineAndStatusTwo) {
     expect_one_line_error(small("--source grid --grid-cells 0"), "grid-cells");
     expect_one_line_error(small("--source grid --grid-cells 257"), "grid-cells");
     expect_one_line_error(small("--bsdf-max-roughness 1.5"), "bsdf-max-roughness");
+    expect_one_line_error(small("--bsdf-light-candidates -1"), "bsdf-light-candidates");
     expect_one_line_error(small("--spatial-min-roughness -0.1"), "spatial-min-roughness");
     expect_one_line_error(small("--permutation-min-roughness nan"), "permutation-min-roughness");
     expect_one_line_error(small("--look-from 1,2"), "look-from");
