@@ -21,7 +21,7 @@ public:
           max_roughness_(settings.bsdf_max_roughness),
           everywhere_(settings.environment_sampling == EnvironmentSampling::bsdf &&
                       lights.lights().environment_count() > 0u),
-          from_receiver_(settings.light_points == LightPoints::solid_angle) {}
+          points_(settings.light_points) {}
 
     void use_light_set() override { source_->use_light_set(); }
     void prepare_frame(std::uint32_t frame_index, std::span<const GSurface> surfaces) override {
@@ -33,8 +33,6 @@ public:
         // surface_roughness is 1 at Lambertian pixels.
         if (!(surface_roughness(s) < max_roughness_) && !everywhere_)
             return source_->initial_reservoir(x, y, frame_index, s, rng);
-        const restir::PowerLightSampler sampler{lights_.power_table().view()};
-        const restir::ShadingPoint at{s.position, s.normal, 0.0f};
         const restir::GlossyReceiver receiver = glossy_receiver(s); // as p-hat and shading see it
         const EmitterHits hits{&rays_, &lights_.lights(), s.normal, ray_offset_};
         // The source's own light candidates where it can weigh them against BSDF rays' hits
@@ -42,14 +40,8 @@ public:
         if (std::optional<Reservoir> both =
                 source_->with_bsdf_candidates(x, y, frame_index, counts_, receiver, hits, rng))
             return *both;
-        // --light-points solid-angle: the light candidates' points drawn from the pixel, and
-        // the BSDF candidates weighed against that map's density.
-        if (from_receiver_)
-            return restir::resample_lights_and_bsdf<target_norm,
-                                                    restir::LightPoints::from_receiver>(
-                rng, counts_, sampler, at, lights_.lights(), lights_.falloff(), receiver, hits);
-        return restir::resample_lights_and_bsdf<target_norm>(
-            rng, counts_, sampler, at, lights_.lights(), lights_.falloff(), receiver, hits);
+        return resample_lights_and_bsdf(restir::PowerLightSampler{lights_.power_table().view()},
+                                        points_, counts_, lights_, receiver, hits, rng);
     }
 
     const restir::LightTileArrays& block_tiles() const override { return source_->block_tiles(); }
@@ -64,7 +56,7 @@ private:
     // --env-sampling bsdf: BSDF candidates at diffuse pixels too (cosine-weighted), the only
     // way to the environment.
     bool everywhere_;
-    bool from_receiver_;
+    LightPoints points_; // --light-points
 };
 
 } // namespace

@@ -258,14 +258,9 @@ std::optional<Reservoir> BvhCandidates::with_bsdf_candidates(
     const restir::GlossyReceiver& receiver, const EmitterHits& hits, restir::Pcg32& rng) const {
     const restir::LightBvhView bvh = light_bvh_ ? light_bvh_->view() : restir::LightBvhView{};
     const restir::DistantLights<> distant = lights_.distant_lights();
-    const auto sampler =
-        restir::with_distant_lights(bvh, distant.first, distant.count(), distant.probability);
-    const restir::ShadingPoint at{receiver.position, receiver.normal};
-    if (settings_.light_points == LightPoints::solid_angle)
-        return restir::resample_lights_and_bsdf<target_norm, restir::LightPoints::from_receiver>(
-            rng, counts, sampler, at, lights_.lights(), lights_.falloff(), receiver, hits);
-    return restir::resample_lights_and_bsdf<target_norm>(rng, counts, sampler, at, lights_.lights(),
-                                                         lights_.falloff(), receiver, hits);
+    return resample_lights_and_bsdf(
+        restir::with_distant_lights(bvh, distant.first, distant.count(), distant.probability),
+        settings_.light_points, counts, lights_, receiver, hits, rng);
 }
 
 // ReGIR (--source grid): the scene's box in about cubic cells, `settings.grid_cells` along its

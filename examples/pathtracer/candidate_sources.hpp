@@ -66,6 +66,22 @@ public:
                                                           restir::Pcg32& rng) const;
 };
 
+/// restir::resample_lights_and_bsdf over light candidates from `sampler` (at `receiver`'s point)
+/// and BSDF candidates, the light candidates' points as `points` says: uniform in area, or drawn
+/// from the receiver (the BSDF candidates then weighed against that map's density).
+template <class Sampler>
+Reservoir resample_lights_and_bsdf(const Sampler& sampler, LightPoints points,
+                                   const restir::CandidateCounts& counts, const LightSet& lights,
+                                   const restir::GlossyReceiver& receiver, const EmitterHits& hits,
+                                   restir::Pcg32& rng) {
+    const restir::ShadingPoint at{receiver.position, receiver.normal, 0.0f};
+    if (points == LightPoints::solid_angle)
+        return restir::resample_lights_and_bsdf<target_norm, restir::LightPoints::from_receiver>(
+            rng, counts, sampler, at, lights.lights(), lights.falloff(), receiver, hits);
+    return restir::resample_lights_and_bsdf<target_norm>(rng, counts, sampler, at, lights.lights(),
+                                                         lights.falloff(), receiver, hits);
+}
+
 /// The source that `settings.source` names, over `lights`.
 std::unique_ptr<InitialCandidates> make_initial_candidates(const RenderSettings& settings,
                                                            const Scene& scene,
