@@ -38,12 +38,7 @@ RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE TileLane tile_entry_mis_lane(const Value&
                                                                     const R& receiver,
                                                                     float m_light, float m_bsdf) {
     const glm::vec3 position = receiver.position;
-    float target;
-    if constexpr (std::same_as<R, LambertianReceiver>)
-        target =
-            tile_entry_target<Norm>(value, position, receiver.normal, receiver.albedo * inv_pi);
-    else
-        target = tile_entry_radiance_target<Norm>(value, position, receiver);
+    const float target = tile_entry_radiance_target<Norm>(value, position, receiver);
     const auto [x, y, z, d2, inverse_distance] = tile_entry_offset(value, position);
     // d cos(theta_light); d for an isotropic light and for a distant light's unit direction.
     const float emitter =
