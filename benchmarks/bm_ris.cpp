@@ -18,6 +18,7 @@
 #include "restir/sampling/light_tiles.hpp"
 #include "restir/sampling/ris.hpp"
 #include "restir/sampling/ris_batch.hpp"
+#include "restir/sampling/tile_bsdf_candidates.hpp"
 
 #include <benchmark/benchmark.h>
 #include <glm/geometric.hpp>
@@ -191,8 +192,10 @@ std::vector<float> light_powers(const std::vector<PointLight>& lights) {
 }
 
 // Batch RIS with the target at `receiver_at(position, normal)`'s receiver; the overload of
-// evaluate_tile_block without a receiver when `receiver_at` is null (white Lambertian).
-template <class ReceiverAt>
+// evaluate_tile_block without a receiver when `receiver_at` is null (white Lambertian). With
+// `Mis`, each lane also takes its MIS weight against one BSDF candidate
+// (evaluate_tile_block_mis, as resample_tiles_and_bsdf's light candidates).
+template <bool Mis = false, class ReceiverAt>
 void batch_ris(benchmark::State& state, const ReceiverAt& receiver_at) {
     const std::vector<PointLight> lights = make_lights(static_cast<std::size_t>(state.range(0)));
     const restir::AliasTable table(light_powers(lights));
@@ -215,6 +218,10 @@ void batch_ris(benchmark::State& state, const ReceiverAt& receiver_at) {
                 if constexpr (std::is_same_v<ReceiverAt, std::nullptr_t>)
                     return restir::evaluate_tile_block(tiles.view, tile, first, position, normal,
                                                        glm::vec3(1.0f), block);
+                else if constexpr (Mis)
+                    return restir::evaluate_tile_block_mis<kBlock>(
+                        tiles.view, tile, first, receiver_at(position, normal),
+                        restir::CandidateCounts{kCandidates, 1u}, block);
                 else
                     return restir::evaluate_tile_block(tiles.view, tile, first,
                                                        receiver_at(position, normal), block);
@@ -237,15 +244,20 @@ void BM_RIS_Batch_Lambertian(benchmark::State& state) {
 }
 BENCHMARK(BM_RIS_Batch_Lambertian)->Arg(1000)->Arg(1000000);
 
-void BM_RIS_Batch_Glossy(benchmark::State& state) {
-    const restir::GlossyBsdf bsdf =
-        restir::GlossyBsdf::from_metallic_roughness(glm::vec3(0.8f), 0.0f, 0.3f);
-    batch_ris(state, [&](glm::vec3 position, glm::vec3 normal) {
-        const glm::vec3 wo = glm::normalize(glm::vec3(0.0f, 20.0f, 30.0f) - position);
-        return restir::GlossyReceiver{position, normal, wo, bsdf};
-    });
+// A GlossyReceiver seen from a fixed eye, for batch_ris.
+restir::GlossyReceiver glossy_receiver_at(glm::vec3 position, glm::vec3 normal) {
+    const glm::vec3 wo = glm::normalize(glm::vec3(0.0f, 20.0f, 30.0f) - position);
+    return {position, normal, wo,
+            restir::GlossyBsdf::from_metallic_roughness(glm::vec3(0.8f), 0.0f, 0.3f)};
 }
+
+void BM_RIS_Batch_Glossy(benchmark::State& state) { batch_ris(state, glossy_receiver_at); }
 BENCHMARK(BM_RIS_Batch_Glossy)->Arg(1000)->Arg(1000000);
+
+// The glossy lanes with their MIS weights against a BSDF candidate (the BSDF's density per
+// lane beside p-hat): the light-candidate part of resample_tiles_and_bsdf.
+void BM_RIS_Batch_GlossyMis(benchmark::State& state) { batch_ris<true>(state, glossy_receiver_at); }
+BENCHMARK(BM_RIS_Batch_GlossyMis)->Arg(1000)->Arg(1000000);
 
 // The selection step alone: blocks of 8 precomputed target values and inverse pdfs, one
 // selection per block and its reservoir update (what batch RIS adds to the target

@@ -209,10 +209,12 @@ struct GlossyBsdf {
         const float diffuse = detail::glossy_luminance(diffuse_albedo) *
                               (1.0f - fresnel_schlick(f0_max, fresnel_f90(specular_f0), cos_o));
         const float total = specular + diffuse;
-        const float ratio = total > 0.0f ? specular / total : 0.0f;
+        // Selects and `&`, no control flow: inlined into a loop over wi, a branch here kept
+        // the loop from vectorising (BM_RIS_Batch_GlossyMis).
+        const float ratio = select_float(total > 0.0f, specular / total, 0.0f);
         const float floor = glossy_lobe_probability_floor;
-        return specular > 0.0f && diffuse > 0.0f ? min_of(max_of(ratio, floor), 1.0f - floor)
-                                                 : ratio;
+        return select_float((specular > 0.0f) & (diffuse > 0.0f),
+                            min_of(max_of(ratio, floor), 1.0f - floor), ratio);
     }
 };
 
