@@ -20,6 +20,8 @@
 #include "restir/sampling/alias_table.hpp"
 #include "restir/sampling/infinite_lights.hpp"
 #include "restir/sampling/light_sampler.hpp"
+#include "restir/sampling/light_tiles.hpp"
+#include "restir/vpl/unified_light_set.hpp"
 
 #include <benchmark/benchmark.h>
 #include <glm/vec2.hpp>
@@ -286,5 +288,40 @@ void BM_Environment_Pdf(benchmark::State& state) {
     state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(BM_Environment_Pdf)->Arg(256)->Arg(1024)->Arg(4096);
+
+// No emitters: a UnifiedLightSet whose only light is its environment.
+struct NoEmitters {
+    struct Point {
+        glm::vec3 position{0.0f}, normal{0.0f}, radiance{0.0f};
+        float area_pdf = 0.0f;
+        bool is_delta = false;
+    };
+    std::uint32_t light_count() const { return 0u; }
+    Point sample_point(std::uint32_t, glm::vec2) const { return {}; }
+};
+
+// `presample_lights` of 4096 light-tile entries that all draw the environment (a renderer's
+// tile fill under an open sky): the time per entry, against a lone draw's in
+// `BM_Environment_Sample`.
+void BM_Environment_Presample(benchmark::State& state) {
+    const NoEmitters none;
+    const restir::UnifiedLightSet<NoEmitters> lights{
+        &none, nullptr, 0u, environment(static_cast<std::uint32_t>(state.range(0))).view()};
+    const restir::UniformLightSampler sampler{1u};
+    constexpr std::uint32_t count = 4096u;
+    std::vector<restir::PresampledLight> entries(count);
+    std::uint32_t frame = 0u;
+    for (auto _ : state) {
+        ++frame;
+        restir::presample_lights(
+            sampler, lights, count,
+            [&](std::uint32_t k) { return restir::make_pixel_rng(k, frame, 0u, 1u); },
+            [&](std::uint32_t k, const restir::PresampledLight& e) { entries[k] = e; });
+        benchmark::DoNotOptimize(entries.data());
+        benchmark::ClobberMemory();
+    }
+    state.SetItemsProcessed(state.iterations() * std::int64_t{count});
+}
+BENCHMARK(BM_Environment_Presample)->Arg(256)->Arg(1024)->Arg(4096);
 
 } // namespace

@@ -205,6 +205,19 @@ struct EnvironmentMapView {
         return environment_luminance(texels[texel_index(direction)]) * inverse_luminance_integral;
     }
 
+    /// Asks for the two reads of `sample(u)` that miss the cache in a large map (host
+    /// prefetches): the conditional-table entry of u.y's bucket in u.x's row, and its texel.
+    RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE void prefetch_sample(glm::vec2 u) const {
+        if (empty())
+            return;
+        const detail::ReusedChoice row =
+            detail::choose_reusing(row_table, detail::uniform_bucket(u.x, height));
+        const std::size_t bucket =
+            std::size_t{row.index} * width + detail::uniform_bucket(u.y, width).index;
+        RESTIR_PREFETCH(column_tables + bucket);
+        RESTIR_PREFETCH(texels + bucket);
+    }
+
     /// A direction with density `pdf` from exactly two uniform numbers in [0, 1), in O(1): u.x
     /// picks the row (marginal table), u.y the texel in it (its conditional table), and what
     /// each number has left after its choice places the direction uniformly in (phi, cos theta)

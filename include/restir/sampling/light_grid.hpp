@@ -170,7 +170,7 @@ resample_grid_tile(const Sampler& sampler, const ShadingPoint& region, const Nod
                                   : 0.0f;
             entries[e] = with_uniform_point({y.light, pdf}, rng);
             if (pdf > 0.0f) // a light, whose point `presampled` evaluates
-                detail::prefetch_light(lights, y.light);
+                detail::prefetch_light(lights, y.light, entries[e].sample.uv);
         }
         for (std::uint32_t e = 0u; e < n; ++e)
             store(run + e, presampled(entries[e], lights));

@@ -76,10 +76,13 @@ RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE void prefetch_draw(const Sampler& sampler
 }
 
 /// Asks for what `lights.sample_point(id, uv)` reads, where the light set says
-/// (`prefetch_address(id)`, `UnifiedLightSet` among them).
+/// (`prefetch_point(id, uv)` or `prefetch_address(id)`, `UnifiedLightSet` among them).
 template <class Lights>
-RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE void prefetch_light(const Lights& lights, std::uint32_t id) {
-    if constexpr (requires { lights.prefetch_address(id); })
+RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE void prefetch_light(const Lights& lights, std::uint32_t id,
+                                                           glm::vec2 uv) {
+    if constexpr (requires { lights.prefetch_point(id, uv); })
+        lights.prefetch_point(id, uv);
+    else if constexpr (requires { lights.prefetch_address(id); })
         RESTIR_PREFETCH(lights.prefetch_address(id));
 }
 } // namespace detail

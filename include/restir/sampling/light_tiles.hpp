@@ -94,7 +94,7 @@ RESTIR_HOST_DEVICE void presample_lights(const Sampler& sampler, const Lights& l
         for (std::uint32_t k = 0u; k < n; ++k) {
             drawn[k] = sampler.sample(u[k][0], u[k][1]);
             if (drawn[k].pmf > 0.0f) // a light, whose point `presampled` evaluates
-                detail::prefetch_light(lights, drawn[k].index);
+                detail::prefetch_light(lights, drawn[k].index, glm::vec2(u[k][2], u[k][3]));
         }
         for (std::uint32_t k = 0u; k < n; ++k)
             store(

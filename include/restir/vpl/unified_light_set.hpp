@@ -75,6 +75,16 @@ struct UnifiedLightSet {
         return this;
     }
 
+    /// Asks for what `sample_point(id, uv)` reads (host prefetches): the environment's table
+    /// entry and texel for `uv`, else `prefetch_address(id)`.
+    RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE void prefetch_point(std::uint32_t id,
+                                                               glm::vec2 uv) const {
+        if (is_environment(id))
+            environment.prefetch_sample(uv);
+        else
+            RESTIR_PREFETCH(prefetch_address(id));
+    }
+
     /// The emitter's point for `uv` drawn from the receiver at `from` (`ReceiverLightSet`), or
     /// the environment's direction or the VPL, which do not depend on the receiver. Only when
     /// the emitter set draws points from receivers.
