@@ -214,14 +214,15 @@ void add_reuse_options(CLI::App& app, RenderSettings& settings, ReuseFlags& flag
            "--preset",
            [&settings, &flags](restir::DiFramePreset preset) {
                settings.di_frame = RenderSettings::di_frame_settings(preset);
+               settings.radius_at_1080_rows = RenderSettings::radius_at_1080_rows_of(preset);
                flags = ReuseFlags{};
                flags.mis_rays = preset != restir::DiFramePreset::fast;
            },
            "ReSTIR's reuse settings (docs/noise-and-bias.md, \"Presets\"): unbiased (the "
            "defaults: 5 neighbours, history cap 4 with permutation sampling), balanced "
-           "(unbiased: 3 neighbours, cap 20 without permutation, defensive pairwise MIS; less "
-           "error a frame, a running mean that converges slower) or fast (balanced without MIS "
-           "rays, biased); the reuse flags below change it")
+           "(unbiased: 3 neighbours in half the radius, cap 20 without permutation, defensive "
+           "pairwise MIS; less error a frame, a running mean that converges slower) or fast "
+           "(balanced without MIS rays, biased); the reuse flags below change it")
         ->transform(names<restir::DiFramePreset>({{"unbiased", restir::DiFramePreset::unbiased},
                                                   {"balanced", restir::DiFramePreset::balanced},
                                                   {"fast", restir::DiFramePreset::fast}}))
@@ -253,8 +254,9 @@ void add_light_sampling_options(CLI::App& app, RenderSettings& settings) {
     app.add_option("--neighbours", frame.spatial.neighbour_count, "Spatial reuse neighbours (k)")
         ->check(CLI::Range(0u, restir::max_reuse_inputs - 1u));
     app.add_option("--radius", frame.spatial.radius,
-                   "Spatial reuse radius in pixels (0: 20 px at 1080 rows, two thirds of the "
-                   "paper's 30, scaled to the image height, at least 3)")
+                   "Spatial reuse radius in pixels (0: two thirds of the preset's at 1080 rows, "
+                   "scaled to the image height, at least 3: 20 px at 1080 rows for unbiased, 10 "
+                   "for balanced and fast)")
         ->check(finite_number & CLI::Range(0.0f, 1000.0f));
     app.add_option("--spatial-passes", frame.spatial_passes, "Spatial reuse passes")
         ->check(CLI::Range(0u, 16u));

@@ -224,10 +224,11 @@ struct Renderer::Impl {
 
 restir::DiFrameParams frame_params(const RenderSettings& settings) {
     restir::DiFrameParams p = settings.di_frame;
-    // Two thirds of the paper's 30 px at 1080 rows: less error a frame in every scene measured
-    // (docs/performance.md, "The spatial radius").
+    // Two thirds of the preset's radius at 1080 rows: less error a frame in every scene
+    // measured (docs/performance.md, "The spatial radius").
     if (!(p.spatial.radius > 0.0f))
-        p.spatial.radius = std::max(3.0f, 20.0f * static_cast<float>(settings.height) / 1080.0f);
+        p.spatial.radius = std::max(3.0f, settings.radius_at_1080_rows *
+                                              static_cast<float>(settings.height) / 1080.0f);
     return p;
 }
 

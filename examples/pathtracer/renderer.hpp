@@ -93,6 +93,9 @@ struct RenderSettings {
     /// filter runs when `di_frame.boiling_filter` is set (restir-render: --boiling-filter > 0).
     /// ReSTIR GI's frame (gi restir-gi) runs with the same settings.
     restir::DiFrameParams di_frame = default_di_frame_settings();
+    /// The spatial radius where `di_frame.spatial.radius` is 0, in pixels per 1080 rows (at
+    /// least 3 pixels): two thirds of the preset's (20 for unbiased, 10 for balanced and fast).
+    float radius_at_1080_rows = radius_at_1080_rows_of(restir::DiFramePreset::unbiased);
     std::uint32_t vpls = 100'000; ///< About this many VPLs (gi vpl).
     /// The photons of a VPL set: `max_bounces` and `seed` (the first set's; later sets follow
     /// it) are settings; the renderer sets `photon_count` (from `vpls`) and `ray_offset`.
@@ -117,8 +120,8 @@ struct RenderSettings {
     /// (restir::DiFramePreset::unbiased: 5 neighbours, a history cap of 4 with permutation
     /// sampling, for the accumulated image as well as the frame: the paper's cap of 20 without
     /// permutation made consecutive frames so alike that averaging them gained little,
-    /// docs/noise-and-bias.md) with a spatial radius of 0 (the renderer makes it 20 px per 1080
-    /// rows, two thirds of the paper's 30 at 1080p, at least 3), and the boiling filter off with
+    /// docs/noise-and-bias.md) with a spatial radius of 0 (the renderer makes it two thirds of
+    /// the preset's per 1080 rows, `radius_at_1080_rows`), and the boiling filter off with
     /// a threshold of 0 (it removes energy, so it is biased). The renderer runs it per 8 x 8
     /// tile, each stage's rays traced as Embree packets. `--preset` picks another preset.
     static restir::DiFrameParams default_di_frame_settings() {
@@ -130,6 +133,10 @@ struct RenderSettings {
         p.spatial.radius = 0.0f;
         p.boiling.threshold = 0.0f;
         return p;
+    }
+    /// Two thirds of `preset`'s radius at 1080 rows (docs/performance.md, "The spatial radius").
+    static float radius_at_1080_rows_of(restir::DiFramePreset preset) {
+        return restir::di_frame_preset(preset).spatial.radius * (2.0f / 3.0f);
     }
     /// The library's photon settings with up to 8 bounces.
     static restir::PhotonParams default_photon_settings() {

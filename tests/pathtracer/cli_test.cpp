@@ -497,4 +497,25 @@ TEST(Cli, PresetsAreTheLibrarysAndFlagsChangeThem) {
     expect_one_line_error(small("--preset fastest"), "--preset");
 }
 
+// The spatial radius a frame runs with: --radius where given, else two thirds of the preset's
+// per 1080 rows (at least 3 px), whichever order --preset and --radius come in.
+TEST(Cli, TheRadiusIsThePresetsScaledToTheImageUnlessGiven) {
+    const auto radius = [](std::vector<const char*> arguments) {
+        std::vector<const char*> argv{"restir-render"};
+        argv.insert(argv.end(), arguments.begin(), arguments.end());
+        std::string help;
+        const std::optional<pt::RenderOptions> options =
+            pt::parse_render_options(static_cast<int>(argv.size()), argv.data(), help);
+        EXPECT_TRUE(options.has_value()) << help;
+        return options ? pt::frame_params(options->settings).spatial.radius : -1.0f;
+    };
+    EXPECT_FLOAT_EQ(radius({"--height", "1080"}), 20.0f);
+    EXPECT_FLOAT_EQ(radius({"--height", "540", "--preset", "unbiased"}), 10.0f);
+    EXPECT_FLOAT_EQ(radius({"--height", "1080", "--preset", "balanced"}), 10.0f);
+    EXPECT_FLOAT_EQ(radius({"--height", "720", "--preset", "fast"}), 10.0f * 720.0f / 1080.0f);
+    EXPECT_FLOAT_EQ(radius({"--height", "180", "--preset", "balanced"}), 3.0f);
+    EXPECT_FLOAT_EQ(radius({"--preset", "balanced", "--radius", "7"}), 7.0f);
+    EXPECT_FLOAT_EQ(radius({"--radius", "7", "--preset", "balanced"}), 7.0f);
+}
+
 } // namespace

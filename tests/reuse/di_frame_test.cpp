@@ -591,9 +591,12 @@ TEST(DiFramePresets, ChangeOnlyWhatTheyName) {
     EXPECT_EQ(balanced.temporal.history_cap_multiplier, paper.temporal.history_cap_multiplier);
     EXPECT_EQ(balanced.temporal.permutation_sampling, paper.temporal.permutation_sampling);
     EXPECT_EQ(balanced.visibility, restir::ReuseVisibility::traced);
+    EXPECT_EQ(unbiased.spatial.radius, paper.spatial.radius);
+    EXPECT_EQ(balanced.spatial.radius, paper.spatial.radius / 2.0f);
     const restir::DiFrameParams fast = restir::di_frame_preset(restir::DiFramePreset::fast);
     EXPECT_EQ(fast.visibility, restir::ReuseVisibility::assumed);
     EXPECT_EQ(fast.spatial.neighbour_count, balanced.spatial.neighbour_count);
+    EXPECT_EQ(fast.spatial.radius, balanced.spatial.radius);
     EXPECT_EQ(unbiased.spatial_bias_correction, BiasCorrection::pairwise);
     EXPECT_EQ(unbiased.temporal_bias_correction, BiasCorrection::pairwise);
     EXPECT_EQ(unbiased.spatial.min_roughness, 0.1f);
