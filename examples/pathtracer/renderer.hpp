@@ -155,7 +155,7 @@ struct FrameTimings {
 };
 
 /// The ReSTIR frame of `settings` (ReSTIR DI's and ReSTIR GI's) at its image's size: a spatial
-/// radius of 0 made 20 px per 1080 rows (two thirds of the paper's 30 at 1080p), at least 3.
+/// radius of 0 made `settings.radius_at_1080_rows` per 1080 rows, at least 3.
 restir::DiFrameParams frame_params(const RenderSettings& settings);
 
 /// Peak memory a render with `settings` needs, in bytes, about: per pixel 384 bytes for ReSTIR
