@@ -1,6 +1,6 @@
 // The project's structure, checked on its sources: the library's folders layer without an
-// include cycle, and no function of the examples (what integrators copy) is longer than
-// 60 lines.
+// include cycle, no function of the examples (what integrators copy) is longer than 60 lines,
+// the library's comments quote no timings, and concepts.hpp indexes every concept.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -232,6 +232,68 @@ TEST(Structure, ExampleFunctionsAreShort) {
                           << max_function_lines << ")";
     }
     EXPECT_GT(files, 10);
+}
+
+/// The `// ` and `/// ` comments of `text`, one string per line.
+std::vector<std::string> comment_lines(const std::string& text) {
+    std::vector<std::string> lines;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);) {
+        const std::size_t at = line.find("//");
+        if (at != std::string::npos)
+            lines.push_back(line.substr(at));
+    }
+    return lines;
+}
+
+/// Whether a comment quotes a timing or a speed-up, which belong in docs/performance.md.
+bool quotes_a_timing(const std::string& comment) {
+    static const std::regex timing(
+        R"re([0-9] ?(ns|us|ms)\b|[0-9.]+ ?x (faster|slower)|[0-9] ?% (faster|slower))re");
+    return std::regex_search(comment, timing);
+}
+
+TEST(Structure, FindsTimingsInComments) {
+    EXPECT_TRUE(quotes_a_timing("// took 8.4 ms against 6.6"));
+    EXPECT_TRUE(quotes_a_timing("/// 4x slower draws"));
+    EXPECT_TRUE(quotes_a_timing("// 10-20 % slower with g++ 12"));
+    EXPECT_TRUE(quotes_a_timing("// 25 ns a draw"));
+    EXPECT_FALSE(quotes_a_timing("// 1e-9 sr, 1 % more for rounding"));
+    EXPECT_FALSE(quotes_a_timing("/// converges faster (docs/performance.md)"));
+    EXPECT_EQ(comment_lines("int x; // a\nint y;\n/// b\n").size(), 2u);
+}
+
+// Figures go stale: the library's comments say why, docs/performance.md says how fast.
+TEST(Structure, LibraryCommentsQuoteNoTimings) {
+    for (const auto& entry : fs::recursive_directory_iterator(source_dir / "include")) {
+        if (entry.path().extension() != ".hpp")
+            continue;
+        for (const std::string& comment : comment_lines(read_text(entry.path()))) {
+            EXPECT_FALSE(quotes_a_timing(comment))
+                << fs::relative(entry.path(), source_dir).string() << ": " << comment;
+        }
+    }
+}
+
+// concepts.hpp indexes every concept of the library: each is defined there or named in its
+// list of the concepts that live beside their stages.
+TEST(Structure, ConceptsHppIndexesEveryConcept) {
+    const std::string index = read_text(source_dir / "include/restir/concepts.hpp");
+    const std::regex definition(R"re(\bconcept\s+([A-Za-z_][A-Za-z0-9_]*)\s*=)re");
+    int concepts = 0;
+    for (const auto& entry : fs::recursive_directory_iterator(source_dir / "include")) {
+        if (entry.path().extension() != ".hpp")
+            continue;
+        const std::string text = read_text(entry.path());
+        for (std::sregex_iterator it(text.begin(), text.end(), definition), end; it != end; ++it) {
+            ++concepts;
+            const std::regex named("(//   |concept )" + (*it)[1].str() + "\\b");
+            EXPECT_TRUE(std::regex_search(index, named))
+                << (*it)[1].str() << " (" << fs::relative(entry.path(), source_dir).string()
+                << ") is not in concepts.hpp's index";
+        }
+    }
+    EXPECT_GT(concepts, 20);
 }
 
 } // namespace

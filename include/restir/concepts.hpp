@@ -21,6 +21,12 @@ namespace restir {
 // beside the stage that asks for them (this header sits in the core layer and includes none of
 // those stages):
 //   UniformRng          core/rng.hpp             `next_float(rng)` -> float in [0, 1)
+//   Receiver            light/receiver.hpp       a surface point and its BSDF: `reflected(wi)`
+//   SamplingReceiver    light/receiver.hpp       a Receiver that draws directions from its BSDF
+//   LightHitQuery       sampling/bsdf_candidates.hpp `find_light(origin, direction)`: the
+//                                                emitter a BSDF ray hits
+//   ShiftMapping        reuse/shift.hpp          `shift(x, from, to)`: a sample carried to
+//                                                another surface, with its Jacobian
 //   VisibilityFunction  reuse/visibility.hpp     `visible(sample, surface)` -> bool
 //   BatchVisibility     reuse/di_frame_tiles.hpp `tracer.trace(queries, visible)`
 //   Reprojection        reuse/temporal.hpp       `reproject(pixel)` -> last frame's pixel

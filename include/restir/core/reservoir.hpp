@@ -157,8 +157,8 @@ private:
     RESTIR_HOST_DEVICE constexpr bool add_weight(float weight, float u,
                                                  std::uint32_t count) noexcept {
         // M saturates instead of wrapping around: an add, then a select on its carry (two
-        // instructions on the chain from one call to the next, where min(count, max - M) took
-        // four and made the stream loop 10-20 % slower with g++ 12).
+        // instructions on the chain from one call to the next, where min(count, max - M) takes
+        // four).
         const std::uint32_t total = candidate_count + count;
         candidate_count = total < candidate_count ? 0xffffffffu : total;
         // Invalid weights become 0 without a branch: a zero weight is never selected, since

@@ -386,9 +386,8 @@ RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE void LightBvhGroup::bounds(const ShadingP
                                                                   const LightBvhGrid& grid,
                                                                   float (&out)[lanes],
                                                                   float near_length) const {
-    // The fields decoded and spelled out rather than light_importance(node(c, grid), at): that
-    // spelling vectorised less reliably and made batch draws slower (docs/performance.md,
-    // "Measured and rejected"). This loop is a draw's inner cost; check BM_LightBvh_SampleBatch
+    // The fields decoded and spelled out rather than light_importance(node(c, grid), at), which
+    // vectorises less reliably. This loop is a draw's inner cost; check BM_LightBvh_SampleBatch
     // after any change here.
 #if defined(__CUDA_ARCH__)
     RESTIR_UNROLL
@@ -397,8 +396,8 @@ RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE void LightBvhGroup::bounds(const ShadingP
 #else
     // On a CPU the codes are widened to floats first (exactly), and the bounds computed from
     // floats alone: GCC vectorises a loop that reads bytes in as many lanes as bytes fill a
-    // register, more than a group's eight, and so left the bounds scalar (4x slower draws than
-    // Clang's). The grid and the point are copied: loads through references inside the loop
+    // register, more than a group's eight, and so leaves the bounds scalar. The grid and the
+    // point are copied: loads through references inside the loop
     // kept it from vectorising too. The same numbers as the device's loop, bit for bit.
     const LightBvhGrid g = grid;
     const ShadingPoint p = at;

@@ -45,9 +45,8 @@ namespace restir {
 /// `view()` at them: the root's box travels in the view).
 struct LightBvhView {
     /// Children per interior node. A wider node means fewer dependent levels in a draw (about
-    /// log8 n), each weighing its children side by side, and each choice weighs tighter bounds:
-    /// four rather than two gave RIS 3.5 times less error per candidate on the many-lights
-    /// scene, and eight rather than four drew faster (docs/performance.md).
+    /// log8 n), each weighing its children side by side, and each choice weighs tighter bounds
+    /// (docs/performance.md, "Light BVH").
     static constexpr std::uint32_t arity = LightBvhGroup::lanes;
 
     /// Group 0 holds the root's children (for one light: the light and seven unused lanes).
@@ -298,8 +297,7 @@ private:
     // On the host, asks for the group of every interior child while the children are being
     // weighed: at a million lights the groups below the top levels are not in cache, and the
     // loads would otherwise wait for the choice. Inlined by force: a function whose only
-    // effects are prefetches is side-effect free to GCC 12, which deleted its calls (a draw at
-    // a million lights 30 % slower, docs/performance.md).
+    // effects are prefetches is side-effect free to GCC 12, which deletes its calls.
     RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE void prefetch_children(const LightBvhGroup& g) const {
 #if !defined(__CUDA_ARCH__)
         // Without branches: a leaf's lane asks for this group again, which costs nothing.

@@ -293,7 +293,7 @@ void run_di_step(const DiFrame<Sample, S, Reproject, History, Surfaces>& frame, 
         detail::GatheredInputs<Sample, S> gathered[max_tile_pixels];
         // Every pixel's neighbours drawn first, so that the search can ask for the neighbours
         // of the pixel two ahead of the one it tests (their first reads are the pass's cache
-        // misses; one pixel ahead hid fewer of them, docs/performance.md).
+        // misses, which one pixel ahead leaves partly exposed).
         constexpr std::uint32_t ahead = 2u;
         tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t k) {
             rngs[k] = rng_for(pixel, RngStream::spatial + step.pass);

@@ -167,7 +167,7 @@ RESTIR_HOST_DEVICE std::uint32_t for_each_input(const Inputs& inputs, Visit&& vi
 /// p-hat_q of the samples of the inputs that take part, for the merges of the bias corrections
 /// (`ReuseTerms::lend`). Host code without a shift evaluates them all in one loop ahead of the
 /// merges: the evaluations are independent, and between the merges' random choices of sample
-/// (branches the CPU mispredicts) they did not overlap (docs/performance.md). Device code and
+/// (branches the CPU mispredicts) they would not overlap. Device code and
 /// shifted samples evaluate each at its merge, so that a GPU thread keeps no array.
 template <class Sample, class S, class Terms, class Inputs>
 struct LentTargets {

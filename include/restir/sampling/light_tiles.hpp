@@ -37,9 +37,8 @@ static_assert(std::is_trivially_copyable_v<PresampledLight>);
 template <LightSet Lights>
 RESTIR_HOST_DEVICE PresampledLight presampled(const SourceSample<LightSampleRef>& candidate,
                                               const Lights& lights) {
-    // Field by field: GCC 12 copied the freshly built structs whole, and each such load of
-    // values just stored in narrower pieces waited for the stores (a one-by-one tile fill in
-    // cache took 8.4 ms against 6.6, docs/performance.md).
+    // Field by field: GCC 12 copies freshly built structs whole, and each such load of values
+    // just stored in narrower pieces waits for the stores (store-to-load forwarding fails).
     PresampledLight entry;
     entry.reference.light_id = candidate.sample.light_id;
     entry.reference.uv = candidate.sample.uv;
