@@ -4,6 +4,7 @@
 // is checked by the `deprecation.warns` test (tests/deprecated/).
 #include <restir/light/falloff.hpp>
 #include <restir/light/irradiance.hpp>
+#include <restir/light/light_bounds.hpp>
 #include <restir/reuse/di_frame.hpp>
 #include <restir/reuse/history.hpp>
 #include <restir/reuse/neighbour_offsets.hpp>
@@ -16,6 +17,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdint>
 #include <type_traits>
 #include <vector>
@@ -32,6 +34,22 @@ TEST(DeprecatedApi, AttenuationIsFalloffKind) {
     const restir::Falloff falloff{restir::Attenuation::yuksel, 0.25f};
     EXPECT_EQ(falloff.kind, restir::Falloff::yuksel(0.25f).kind);
     EXPECT_EQ(falloff.parameter, restir::Falloff::yuksel(0.25f).parameter);
+}
+
+// Deprecated without a replacement (no caller in the library), it still merges until removed.
+TEST(DeprecatedApi, MergeLightBoundsCoversBoth) {
+    const restir::LightBounds a = restir::area_light_bounds(glm::vec3(0.0f), glm::vec3(1.0f),
+                                                            glm::vec3(0.0f, 0.0f, 1.0f), 2.0f);
+    const restir::LightBounds b =
+        restir::area_light_bounds(glm::vec3(3.0f, -1.0f, 0.0f), glm::vec3(4.0f, 0.0f, 1.0f),
+                                  glm::vec3(1.0f, 0.0f, 0.0f), 5.0f);
+    const restir::LightBounds m = restir::merge_light_bounds(a, b);
+    EXPECT_EQ(m.lower, glm::vec3(0.0f, -1.0f, 0.0f));
+    EXPECT_EQ(m.upper, glm::vec3(4.0f, 1.0f, 1.0f));
+    EXPECT_FLOAT_EQ(m.power, 7.0f);
+    // The merged cone holds both axes: +z and +x are 90 degrees apart.
+    EXPECT_LE(m.cos_theta_o, std::cos(0.785f));
+    EXPECT_EQ(restir::merge_light_bounds(restir::LightBounds{}, a).power, a.power);
 }
 
 TEST(DeprecatedApi, OldFalloffFunctionsGiveTheNewOnesResults) {

@@ -94,9 +94,7 @@ public:
 
     const PixelBuffer<GSurface>& surfaces() const { return surfaces_; }
     const PixelBuffer<GSurface>& previous_surfaces() const { return previous_; }
-    const EmbreeScene& rays() const { return *rays_; }
     const Scene& scene() const { return *scene_; }
-    float ray_offset() const { return ray_offset_; }
     /// Shadow rays towards light points, off the surfaces by `ray_offset`.
     restir::LightPointVisibility<EmbreeScene> point_visibility() const {
         return {rays_, ray_offset_};

@@ -78,8 +78,11 @@ inline void merge_cones(glm::vec3& axis, float& theta, glm::vec3 other_axis, flo
 }
 } // namespace detail
 
-/// The bounds of two groups of lights together.
-inline LightBounds merge_light_bounds(const LightBounds& a, const LightBounds& b) {
+/// The bounds of two groups of lights together. Deprecated: nothing in the library calls it
+/// (`LightBvh` merges its nodes' bounds with their cones kept as angles).
+[[deprecated(
+    "unused by the library and removed in 0.4: merge LightBounds yourself")]] inline LightBounds
+merge_light_bounds(const LightBounds& a, const LightBounds& b) {
     if (!(a.power > 0.0f) && a.lower.x > a.upper.x)
         return b;
     if (!(b.power > 0.0f) && b.lower.x > b.upper.x)
