@@ -169,8 +169,10 @@ std::vector<double> render(const Patch& patch, std::uint64_t seed, std::uint32_t
             frame.previous_surfaces = frame.surfaces; // a still scene
         }
         restir::run_di_frame(
-            frame, restir::ImageView<Reservoir>{out.data(), size, size},
-            restir::ImageView<Reservoir>{scratch.data(), size, size}, for_each_pixel,
+            frame,
+            restir::DiBuffers<restir::LightSampleRef>{{out.data(), size, size},
+                                                      {scratch.data(), size, size}},
+            for_each_pixel,
             [&](restir::PixelCoord, const Texel& texel, Random& rng) { // initial candidates
                 return restir::resample_ris(
                     rng, 8u, [&](Random& g) { return restir::draw_light_candidate(sampler, g); },

@@ -21,3 +21,11 @@ restir::Reservoir<stub::Sample> probe_reuse(const restir::Reservoir<stub::Sample
         {0, 0}, current, surface, {&current, 1u, 1u}, {&surface, 1u, 1u}, stub::Reprojection{},
         restir::default_temporal_params(), restir::default_spatial_params(), offsets, bridge, rng);
 }
+
+std::uint32_t probe_reuse_inputs(const restir::Reservoir<stub::Sample>& current,
+                                 const stub::Surface& surface) {
+    const restir::NeighbourSearch search{3u, 30.0f};
+    const restir::SingleReuseInput<stub::Sample, stub::Surface> single{{&current, &surface}};
+    const restir::LoadedHistoryInput<stub::Sample, stub::Surface> history{current, &surface};
+    return search.neighbour_count + single.size() + history.reservoir.candidate_count;
+}

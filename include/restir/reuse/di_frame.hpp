@@ -496,16 +496,17 @@ void run_di_frame(const DiFrame<Sample, S, Reproject, History, Surfaces>& frame,
 }
 
 /// `run_di_frame` with the final reservoirs in `out` and `scratch` the other buffer (the form
-/// before 0.2).
+/// of 0.1 and 0.2). Deprecated; to be removed in 0.4.
 template <class Sample, Surface S, Reprojection Reproject, class History, class Surfaces,
           class ForEachPixel, class Initial, class Target, class Visibility, class MaterialTest,
           class Shift, class RngFor>
 requires VisibilityFunction<Visibility, Sample, S>
-void run_di_frame(const DiFrame<Sample, S, Reproject, History, Surfaces>& frame,
-                  ImageView<Reservoir<Sample>> out, ImageView<Reservoir<Sample>> scratch,
-                  const ForEachPixel& for_each_pixel, const Initial& initial_candidates,
-                  const ReuseBridge<Target, Visibility, MaterialTest, Shift>& bridge,
-                  const RngFor& rng_for) {
+[[deprecated("pass restir::DiBuffers{out, scratch}")]] void
+run_di_frame(const DiFrame<Sample, S, Reproject, History, Surfaces>& frame,
+             ImageView<Reservoir<Sample>> out, ImageView<Reservoir<Sample>> scratch,
+             const ForEachPixel& for_each_pixel, const Initial& initial_candidates,
+             const ReuseBridge<Target, Visibility, MaterialTest, Shift>& bridge,
+             const RngFor& rng_for) {
     run_di_frame(frame, DiBuffers<Sample>{out, scratch}, for_each_pixel, initial_candidates, bridge,
                  rng_for);
 }

@@ -67,7 +67,8 @@ struct LoadedHistoryInput<Sample, SurfaceT, true> {
 
 /// The history input's name before 0.2, when it was public.
 template <class Sample, class SurfaceT, bool OwnsSurface = false>
-using LoadedHistoryInput [[deprecated("an implementation detail of DiFrame now")]] =
+using LoadedHistoryInput [[deprecated(
+    "internal now: run_di_frame loads the history, and restir::ReuseInput lends one reservoir")]] =
     detail::LoadedHistoryInput<Sample, SurfaceT, OwnsSurface>;
 
 /// The light-id translation of a history whose light set did not change: every id stays.

@@ -25,8 +25,8 @@ namespace restir {
 
 /// Where a pass looks for neighbours: k offsets in a disk of `radius` pixels. Only the
 /// deprecated overload of `spatiotemporal_resample` takes it; the fused pass takes
-/// `SpatialParams` again, as in 0.1. To be removed in 0.3.
-struct NeighbourSearch {
+/// `SpatialParams` again, as in 0.1. Deprecated; to be removed in 0.4.
+struct [[deprecated("use restir::SpatialParams (neighbour_count, radius)")]] NeighbourSearch {
     std::uint32_t neighbour_count = 3u; ///< k, at most max_reuse_inputs - 1.
     float radius = 30.0f;               ///< In pixels.
 };
