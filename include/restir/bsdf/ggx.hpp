@@ -72,13 +72,19 @@ RESTIR_HOST_DEVICE inline float smith_g1(float cos_theta, float alpha) {
     return cos_theta > 0.0f ? g : 0.0f;
 }
 
+/// ci root(co) + co root(ci) for cosines in [0, 1]: G2 (below) is 2 co ci over it, and a BSDF
+/// that folds G2 / (4 co ci) into one division divides by it alone (`glossy_evaluate_cos`).
+RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE float smith_g2_denominator(float co, float ci, float alpha) {
+    return ci * smith_root(co, alpha) + co * smith_root(ci, alpha);
+}
+
 /// The height-correlated masking-shadowing term G2 = 1 / (1 + Lambda(o) + Lambda(i)) (Heitz
 /// 2014, eq. 99) for reflection, as 2 co ci / (ci root(co) + co root(ci)); 0 when either
 /// direction is at or below the surface.
 RESTIR_HOST_DEVICE inline float smith_g2(float cos_theta_o, float cos_theta_i, float alpha) {
     const float co = min_of(max_of(cos_theta_o, 0.0f), 1.0f);
     const float ci = min_of(max_of(cos_theta_i, 0.0f), 1.0f);
-    const float denominator = ci * smith_root(co, alpha) + co * smith_root(ci, alpha);
+    const float denominator = smith_g2_denominator(co, ci, alpha);
     const float g = 2.0f * co * ci / max_of(denominator, 1e-30f);
     return cos_theta_o > 0.0f && cos_theta_i > 0.0f ? g : 0.0f;
 }

@@ -73,7 +73,7 @@ glossy_evaluate_cos(glm::vec3 diffuse_albedo, glm::vec3 specular_f0, float alpha
     const float d = ggx_ndf_from_squares(nh * nh * inv_hh, half_cross2 * inv_hh, alpha);
     // G2 / (4 co ci) times ci, height-correlated Smith (Heitz 2014, eq. 99):
     // 0.5 ci / (ci root(co) + co root(ci)), one square root per Smith term.
-    const float smith = ci * smith_root(co, alpha) + co * smith_root(ci, alpha);
+    const float smith = smith_g2_denominator(co, ci, alpha);
     const float specular_cos = d * (0.5f * ci / max_of(smith, 1e-30f));
     // Schlick at wo.h = |H| / 2 (Schlick 1994, eq. 24).
     const float weight_h = schlick_weight(0.5f * std::sqrt(hh));
