@@ -174,11 +174,12 @@ struct Context {
     }
 };
 
-/// The recipe's settings for this benchmark: restir-render's (pairwise MIS, visibility reuse,
-/// one spatial pass of `radius` px per 1080 rows, at least 3; restir-render's is 20), with 5
-/// neighbours. `mis_rays` traces the MIS weights' shadow rays (`ReuseVisibility::traced`); without
-/// it the reuse passes are ray-free (`assumed`, RTXDI's default), so that only the initial and
-/// finish stages trace rays.
+/// The recipe's settings for this benchmark: the library's defaults (pairwise MIS, visibility
+/// reuse, history cap 20 without permutation sampling) with 5 neighbours in one spatial pass of
+/// `radius` px per 1080 rows, at least 3 (restir-render's radius is 20). Not restir-render's
+/// unbiased preset, whose history cap of 4 with permutation sampling it leaves out. `mis_rays`
+/// traces the MIS weights' shadow rays (`ReuseVisibility::traced`); without it the reuse passes are
+/// ray-free (`assumed`, RTXDI's default), so that only the initial and finish stages trace rays.
 inline restir::DiFrameParams recipe_params(std::uint32_t height, float radius, bool mis_rays) {
     restir::DiFrameParams p = restir::default_di_frame_params();
     p.spatial.neighbour_count = 5u;
