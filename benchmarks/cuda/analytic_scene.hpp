@@ -133,9 +133,8 @@ struct Emitters {
     RESTIR_HOST_DEVICE std::uint32_t light_count() const { return count; }
     RESTIR_HOST_DEVICE restir::LightSample sample_point(std::uint32_t id, glm::vec2 uv) const {
         const Emitter& e = emitters[id];
-        const float su = sqrtf(uv.x);
         restir::LightSample s;
-        s.position = e.a + e.ab * (su * (1.0f - uv.y)) + e.ac * (su * uv.y);
+        s.position = restir::sample_triangle_area_from_edges(e.a, e.ab, e.ac, uv);
         s.normal = e.normal;
         s.radiance = e.radiance;
         s.area_pdf = 1.0f / e.area;

@@ -46,13 +46,12 @@ public:
     /// restir::LightSet
     std::uint32_t light_count() const { return static_cast<std::uint32_t>(triangles_.size()); }
 
-    /// A uniformly distributed point of emitter `id` (square-root parameterisation of the
+    /// A uniformly distributed point of emitter `id` (the library's square-root warp of the
     /// barycentrics: a bijection of [0, 1)^2 onto the triangle).
     restir::LightSample sample_point(std::uint32_t id, glm::vec2 uv) const {
         const Emitter& e = triangles_[id];
-        const float su = std::sqrt(uv.x);
         restir::LightSample s;
-        s.position = e.a + e.ab * (su * (1.0f - uv.y)) + e.ac * (su * uv.y);
+        s.position = restir::sample_triangle_area_from_edges(e.a, e.ab, e.ac, uv);
         s.normal = e.normal;
         s.radiance = e.radiance;
         s.area_pdf = 1.0f / e.area;

@@ -31,14 +31,22 @@ namespace restir {
 /// Below this solid angle (sr) `sample_triangle_from` samples by area (see the file comment).
 inline constexpr float min_solid_angle_for_arvo = 1e-9f;
 
-/// A point uniform in the area of the triangle `a`, `b`, `c` from two uniform numbers (the
-/// square-root warp of the barycentrics: b0 = 1 - sqrt(u0), b1 = u1 sqrt(u0)).
-RESTIR_HOST_DEVICE inline glm::vec3 sample_triangle_area(glm::vec3 a, glm::vec3 b, glm::vec3 c,
-                                                         glm::vec2 u) {
+/// A point uniform in the area of the triangle with corner `a` and edges `ab` = b - a, `ac` =
+/// c - a (as renderers that store their emitters' edges keep it) from two uniform numbers: the
+/// square-root warp of the barycentrics, b0 = 1 - sqrt(u0), b1 = u1 sqrt(u0) (the weight of
+/// b), b2 = sqrt(u0) - b1.
+RESTIR_HOST_DEVICE inline glm::vec3 sample_triangle_area_from_edges(glm::vec3 a, glm::vec3 ab,
+                                                                    glm::vec3 ac, glm::vec2 u) {
     const float root = std::sqrt(u.x);
     const float weight_b = u.y * root;
     const float weight_c = root - weight_b; // root (1 - u1)
-    return a + weight_b * (b - a) + weight_c * (c - a);
+    return a + weight_b * ab + weight_c * ac;
+}
+
+/// `sample_triangle_area_from_edges` for the triangle `a`, `b`, `c`.
+RESTIR_HOST_DEVICE inline glm::vec3 sample_triangle_area(glm::vec3 a, glm::vec3 b, glm::vec3 c,
+                                                         glm::vec2 u) {
+    return sample_triangle_area_from_edges(a, b - a, c - a, u);
 }
 
 /// A point of the triangle `a`, `b`, `c` drawn from the receiver `from`: uniform in solid angle
