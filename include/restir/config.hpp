@@ -82,6 +82,20 @@
 #define RESTIR_PREFETCH(address) static_cast<void>(address)
 #endif
 
+/// 1 where reuse passes keep their inputs as a GPU thread does: streamed, each looked up and
+/// evaluated where a merge needs it (registers, no arrays); 0 where host code first gathers the
+/// inputs that lend into arrays and evaluates their targets in one loop. Both give the same
+/// reservoirs, bit for bit (the test `reuse.streamed_equals_gathered` builds one program each
+/// way and compares them). Defaults to 1 in device code and 0 in host code; define it to 1 to
+/// run the device form on a host.
+#ifndef RESTIR_STREAMED_REUSE
+#if defined(__CUDA_ARCH__)
+#define RESTIR_STREAMED_REUSE 1
+#else
+#define RESTIR_STREAMED_REUSE 0
+#endif
+#endif
+
 /// Debug assertion on internal invariants. Define RESTIR_ASSERT before including any restir
 /// header to route it elsewhere; by default it follows `assert` (off under NDEBUG).
 #ifndef RESTIR_ASSERT

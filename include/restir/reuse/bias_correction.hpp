@@ -260,7 +260,7 @@ requires ReuseInputs<Inputs, Sample, S> && TargetFunction<Target, Sample, S> &&
                      const ReuseBridge<Target, Visibility, MaterialTest, Shift>& bridge, Rng& rng) {
     const Reservoir<Sample> canonical =
         receiver_reservoir.is_well_formed() ? receiver_reservoir : Reservoir<Sample>{};
-#if !defined(__CUDA_ARCH__)
+#if !RESTIR_STREAMED_REUSE
     if constexpr (!detail::packed_inputs<Inputs> || detail::streamed_inputs<Inputs>)
         return combine_with<Mode, Sample>(
             canonical, surface, detail::pack_inputs<Sample, S>(inputs), params, bridge, rng);

@@ -434,7 +434,7 @@ private:
     RESTIR_HOST_DEVICE Reservoir<Sample>
     spatial_here(PixelCoord pixel, ImageView<const Reservoir<Sample>> input, const Bridge& bridge,
                  NeighbourDraw draw, Rng& rng) const {
-#if !defined(__CUDA_ARCH__)
+#if !RESTIR_STREAMED_REUSE
         if constexpr (surfaces_in_array<Surfaces, S>) {
             detail::GatheredInputs<Sample, S> gathered;
             gathered.count = 0u;

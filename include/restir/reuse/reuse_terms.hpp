@@ -171,7 +171,7 @@ RESTIR_HOST_DEVICE std::uint32_t for_each_input(const Inputs& inputs, Visit&& vi
 /// shifted samples evaluate each at its merge, so that a GPU thread keeps no array.
 template <class Sample, class S, class Terms, class Inputs>
 struct LentTargets {
-#if defined(__CUDA_ARCH__)
+#if RESTIR_STREAMED_REUSE
     static constexpr bool can_evaluate_ahead = false;
 #else
     // A single input (the temporal pass's) has nothing to overlap with.
@@ -185,7 +185,7 @@ struct LentTargets {
     /// visibility first): each is then evaluated at its merge.
     RESTIR_HOST_DEVICE LentTargets(const Inputs& inputs, const Terms& t, bool evaluate_ahead = true)
         : terms(t), ahead(can_evaluate_ahead && evaluate_ahead) {
-#if !defined(__CUDA_ARCH__)
+#if !RESTIR_STREAMED_REUSE
         if constexpr (can_evaluate_ahead)
             if (ahead)
                 for_each_input<Sample, S>(
@@ -200,7 +200,7 @@ struct LentTargets {
     /// `terms.lend(lent, r, there)` of input j (its reservoir `r`, which holds a sample).
     RESTIR_HOST_DEVICE float lend(std::uint32_t j, typename Terms::Lent& lent,
                                   const Reservoir<Sample>& r, const S& there) const {
-#if !defined(__CUDA_ARCH__)
+#if !RESTIR_STREAMED_REUSE
         if constexpr (can_evaluate_ahead)
             if (ahead)
                 return values[j];

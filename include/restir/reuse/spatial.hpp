@@ -296,7 +296,7 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
     const S& surface = surfaces[pixel];
     if (!is_valid_surface(surface))
         return own;
-#if defined(__CUDA_ARCH__)
+#if RESTIR_STREAMED_REUSE
     // Streamed: the set stays in registers.
     return combine_inputs(own, surface,
                           find_spatial_neighbours(pixel, surface, reservoirs, surfaces, params,

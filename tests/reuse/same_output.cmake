@@ -1,0 +1,10 @@
+# Runs FIRST and SECOND and passes when both succeed and print the same text.
+execute_process(COMMAND ${FIRST} RESULT_VARIABLE first_result OUTPUT_VARIABLE first_output)
+execute_process(COMMAND ${SECOND} RESULT_VARIABLE second_result OUTPUT_VARIABLE second_output)
+if(NOT first_result EQUAL 0 OR NOT second_result EQUAL 0)
+  message(FATAL_ERROR "a program failed: ${FIRST} (${first_result}), ${SECOND} (${second_result})")
+endif()
+if(NOT first_output STREQUAL second_output)
+  message(FATAL_ERROR "different results:\n${FIRST}:\n${first_output}\n${SECOND}:\n${second_output}")
+endif()
+message(STATUS "the same results:\n${first_output}")
