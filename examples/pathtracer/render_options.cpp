@@ -214,7 +214,7 @@ void add_reuse_options(CLI::App& app, RenderSettings& settings, ReuseFlags& flag
            "--preset",
            [&settings, &flags](restir::DiFramePreset preset) {
                settings.di_frame = RenderSettings::di_frame_settings(preset);
-               settings.radius_at_1080_rows = RenderSettings::radius_at_1080_rows_of(preset);
+               settings.preset = preset;
                flags = ReuseFlags{};
                flags.mis_rays = preset != restir::DiFramePreset::fast;
            },

@@ -226,9 +226,11 @@ restir::DiFrameParams frame_params(const RenderSettings& settings) {
     restir::DiFrameParams p = settings.di_frame;
     // Two thirds of the preset's radius at 1080 rows: less error a frame in every scene
     // measured (docs/performance.md, "The spatial radius").
+    const float at_1080_rows =
+        restir::di_frame_preset(settings.preset).spatial.radius * 2.0f / 3.0f;
     if (!(p.spatial.radius > 0.0f))
-        p.spatial.radius = std::max(3.0f, settings.radius_at_1080_rows *
-                                              static_cast<float>(settings.height) / 1080.0f);
+        p.spatial.radius =
+            std::max(3.0f, at_1080_rows * static_cast<float>(settings.height) / 1080.0f);
     return p;
 }
 

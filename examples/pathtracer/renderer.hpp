@@ -93,9 +93,9 @@ struct RenderSettings {
     /// filter runs when `di_frame.boiling_filter` is set (restir-render: --boiling-filter > 0).
     /// ReSTIR GI's frame (gi restir-gi) runs with the same settings.
     restir::DiFrameParams di_frame = default_di_frame_settings();
-    /// The spatial radius where `di_frame.spatial.radius` is 0, in pixels per 1080 rows (at
-    /// least 3 pixels): two thirds of the preset's (20 for unbiased, 10 for balanced and fast).
-    float radius_at_1080_rows = radius_at_1080_rows_of(restir::DiFramePreset::unbiased);
+    /// The preset `di_frame` came from (--preset); where `di_frame.spatial.radius` is 0 the
+    /// renderer takes two thirds of this preset's radius per 1080 rows (`frame_params`).
+    restir::DiFramePreset preset = restir::DiFramePreset::unbiased;
     std::uint32_t vpls = 100'000; ///< About this many VPLs (gi vpl).
     /// The photons of a VPL set: `max_bounces` and `seed` (the first set's; later sets follow
     /// it) are settings; the renderer sets `photon_count` (from `vpls`) and `ray_offset`.
@@ -121,7 +121,7 @@ struct RenderSettings {
     /// sampling, for the accumulated image as well as the frame: the paper's cap of 20 without
     /// permutation made consecutive frames so alike that averaging them gained little,
     /// docs/noise-and-bias.md) with a spatial radius of 0 (the renderer makes it two thirds of
-    /// the preset's per 1080 rows, `radius_at_1080_rows`), and the boiling filter off with
+    /// the preset's per 1080 rows, `frame_params`), and the boiling filter off with
     /// a threshold of 0 (it removes energy, so it is biased). The renderer runs it per 8 x 8
     /// tile, each stage's rays traced as Embree packets. `--preset` picks another preset.
     static restir::DiFrameParams default_di_frame_settings() {
@@ -133,10 +133,6 @@ struct RenderSettings {
         p.spatial.radius = 0.0f;
         p.boiling.threshold = 0.0f;
         return p;
-    }
-    /// Two thirds of `preset`'s radius at 1080 rows (docs/performance.md, "The spatial radius").
-    static float radius_at_1080_rows_of(restir::DiFramePreset preset) {
-        return restir::di_frame_preset(preset).spatial.radius * (2.0f / 3.0f);
     }
     /// The library's photon settings with up to 8 bounces.
     static restir::PhotonParams default_photon_settings() {
@@ -155,7 +151,8 @@ struct FrameTimings {
 };
 
 /// The ReSTIR frame of `settings` (ReSTIR DI's and ReSTIR GI's) at its image's size: a spatial
-/// radius of 0 made `settings.radius_at_1080_rows` per 1080 rows, at least 3.
+/// radius of 0 made two thirds of `settings.preset`'s radius per 1080 rows (20 px for unbiased,
+/// 10 for balanced and fast), at least 3.
 restir::DiFrameParams frame_params(const RenderSettings& settings);
 
 /// Peak memory a render with `settings` needs, in bytes, about: per pixel 384 bytes for ReSTIR

@@ -450,15 +450,20 @@ TEST(Cli, RendersRestirGi) {
     }
 }
 
-// The reuse settings restir-render parses from `arguments` (after the program's name).
-restir::DiFrameParams frame_from_command_line(const std::vector<const char*>& arguments) {
+// The settings restir-render parses from `arguments` (after the program's name).
+pt::RenderSettings settings_from_command_line(const std::vector<const char*>& arguments) {
     std::vector<const char*> argv{"restir-render"};
     argv.insert(argv.end(), arguments.begin(), arguments.end());
     std::string help;
     const std::optional<pt::RenderOptions> options =
         pt::parse_render_options(static_cast<int>(argv.size()), argv.data(), help);
-    EXPECT_TRUE(options.has_value());
-    return options ? options->settings.di_frame : restir::DiFrameParams{};
+    EXPECT_TRUE(options.has_value()) << help;
+    return options ? options->settings : pt::RenderSettings{};
+}
+
+// The reuse settings restir-render parses from `arguments`.
+restir::DiFrameParams frame_from_command_line(const std::vector<const char*>& arguments) {
+    return settings_from_command_line(arguments).di_frame;
 }
 
 // --preset sets the library's preset (the default: unbiased), and a reuse flag beside it, before
@@ -500,14 +505,8 @@ TEST(Cli, PresetsAreTheLibrarysAndFlagsChangeThem) {
 // The spatial radius a frame runs with: --radius where given, else two thirds of the preset's
 // per 1080 rows (at least 3 px), whichever order --preset and --radius come in.
 TEST(Cli, TheRadiusIsThePresetsScaledToTheImageUnlessGiven) {
-    const auto radius = [](std::vector<const char*> arguments) {
-        std::vector<const char*> argv{"restir-render"};
-        argv.insert(argv.end(), arguments.begin(), arguments.end());
-        std::string help;
-        const std::optional<pt::RenderOptions> options =
-            pt::parse_render_options(static_cast<int>(argv.size()), argv.data(), help);
-        EXPECT_TRUE(options.has_value()) << help;
-        return options ? pt::frame_params(options->settings).spatial.radius : -1.0f;
+    const auto radius = [](const std::vector<const char*>& arguments) {
+        return pt::frame_params(settings_from_command_line(arguments)).spatial.radius;
     };
     EXPECT_FLOAT_EQ(radius({"--height", "1080"}), 20.0f);
     EXPECT_FLOAT_EQ(radius({"--height", "540", "--preset", "unbiased"}), 10.0f);
