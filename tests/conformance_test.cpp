@@ -218,16 +218,21 @@ TEST(Conformance, FrameRecipeInstantiatesWithStubTypes) {
         for (std::int32_t i = 0; i < 4; ++i)
             body(restir::PixelCoord{i % 2, i / 2});
     };
-    restir::run_di_frame(frame, buffers, for_each_pixel, initial,
-                         restir::ReuseBridge{stub::Target{}, stub::Visibility{}}, rng_for, shade);
+    const restir::DiBridge bridge{initial, restir::ReuseBridge{stub::Target{}, stub::Visibility{}},
+                                  rng_for, shade};
+    static_assert(restir::DiFrameBridge<decltype(bridge), stub::Sample, stub::Surface>);
+    restir::run_di_frame(frame, buffers, bridge, for_each_pixel);
     EXPECT_EQ(shaded, 4u);
     EXPECT_GT(out[0].candidate_count, 1u) << "the history took part";
     const auto one_tile = [](const restir::DiStep&, const auto& body) {
         body(restir::PixelTile{{0, 0}, {2, 2}});
     };
-    restir::run_di_frame(frame, buffers, one_tile, initial,
+    restir::run_di_frame(
+        frame, buffers,
+        restir::DiBridge{initial,
                          restir::ReuseBridge{stub::Target{}, restir::OneByOne<stub::Visibility>{}},
-                         rng_for, shade);
+                         rng_for, shade},
+        one_tile);
     EXPECT_EQ(shaded, 8u);
 }
 

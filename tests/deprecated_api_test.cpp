@@ -5,7 +5,9 @@
 #include <restir/light/falloff.hpp>
 #include <restir/light/irradiance.hpp>
 #include <restir/light/light_bounds.hpp>
+#include <restir/reuse/bias_correction.hpp>
 #include <restir/reuse/di_frame.hpp>
+#include <restir/reuse/di_frame_tiles.hpp>
 #include <restir/reuse/history.hpp>
 #include <restir/reuse/neighbour_offsets.hpp>
 #include <restir/reuse/spatial.hpp>
@@ -143,6 +145,95 @@ TEST(DeprecatedApi, SpatiotemporalResampleOlderFormsGiveTheNewResult) {
             EXPECT_EQ(rng_search.state, rng_new.state);
         }
     }
+}
+
+// The forms of 0.2 that took the frame's callbacks one by one give the bridge form's reservoirs,
+// per pixel and per tile, over two frames of a 4 x 4 image (the second with history); and
+// combine_reservoirs is combine_inputs over a ReuseInputSpan.
+TEST(DeprecatedApi, CallbacksOneByOneGiveTheBridgeFormsResult) {
+    using R = restir::Reservoir<stub::Sample>;
+    std::vector<stub::Surface> surfaces;
+    for (std::uint32_t i = 0u; i < 16u; ++i)
+        surfaces.push_back(stub::Surface{0.5f + 0.01f * static_cast<float>(i % 5u)});
+    const auto initial = [](restir::PixelCoord p, const stub::Surface& s, stub::Rng& rng) {
+        R r;
+        for (std::uint32_t k = 0; k < 4u; ++k) {
+            const stub::Sample x{(k + static_cast<std::uint32_t>(p.x)) % 4u};
+            r.stream(x, stub::Target{}(x, s), stub::Target{}(x, s), next_float(rng));
+        }
+        r.finalize();
+        return r;
+    };
+    const auto rng_for = [](restir::PixelCoord p, std::uint32_t stream) {
+        return stub::Rng{static_cast<std::uint32_t>(p.x + 4 * p.y) * 97u + stream + 1u};
+    };
+    const auto each_pixel = [](const auto& body) {
+        for (std::int32_t i = 0; i < 16; ++i)
+            body(restir::PixelCoord{i % 4, i / 4});
+    };
+    const auto each_tile = [](const restir::DiStep&, const auto& body) {
+        body(restir::PixelTile{{0, 0}, {4, 4}});
+    };
+    const restir::ReuseBridge pixels{stub::Target{}, stub::Visibility{}};
+    const restir::ReuseBridge tiles{stub::Target{}, restir::OneByOne<stub::Visibility>{}};
+    // Two frames run by `run(frame, buffers)`; the final reservoirs.
+    const auto frames = [&](const auto& run) {
+        std::vector<R> out(16), history(16), scratch(16);
+        restir::DiFrame<stub::Sample, stub::Surface, stub::Reprojection> frame;
+        frame.surfaces = {surfaces.data(), 4u, 4u};
+        for (std::uint32_t f = 0; f < 2u; ++f) {
+            std::swap(out, history);
+            frame.frame_index = f;
+            if (f > 0u) {
+                frame.history = {history.data(), 4u, 4u};
+                frame.previous_surfaces = frame.surfaces;
+            }
+            run(frame,
+                restir::DiBuffers<stub::Sample>{{out.data(), 4u, 4u}, {scratch.data(), 4u, 4u}});
+        }
+        return out;
+    };
+    const auto expect_same = [](const std::vector<R>& a, const std::vector<R>& b) {
+        for (std::size_t i = 0; i < a.size(); ++i) {
+            EXPECT_EQ(a[i].sample.id, b[i].sample.id) << "pixel " << i;
+            EXPECT_EQ(a[i].candidate_count, b[i].candidate_count) << "pixel " << i;
+            EXPECT_EQ(a[i].contribution_weight, b[i].contribution_weight) << "pixel " << i;
+        }
+    };
+    const auto by_bridge = frames([&](const auto& frame, const auto& buffers) {
+        restir::run_di_frame(frame, buffers, restir::DiBridge{initial, pixels, rng_for},
+                             each_pixel);
+    });
+    EXPECT_GT(by_bridge[5].candidate_count, 4u) << "reuse took part";
+    expect_same(by_bridge, frames([&](const auto& frame, const auto& buffers) {
+                    restir::run_di_frame(frame, buffers, each_pixel, initial, pixels, rng_for);
+                }));
+    expect_same(by_bridge, frames([&](const auto& frame, const auto& buffers) {
+                    restir::run_di_frame(frame, buffers.out, buffers.scratch, each_pixel, initial,
+                                         pixels, rng_for);
+                }));
+    expect_same(by_bridge, frames([&](const auto& frame, const auto& buffers) {
+                    restir::run_di_frame(frame, buffers, each_tile, initial, tiles, rng_for);
+                }));
+    expect_same(by_bridge, frames([&](const auto& frame, const auto& buffers) {
+                    for (std::uint32_t i = 0; i < frame.step_count(); ++i)
+                        each_pixel([&](restir::PixelCoord p) {
+                            frame.run_pixel(frame.step(i), p, buffers, initial, pixels, rng_for);
+                        });
+                }));
+
+    const std::vector<R> inputs = by_bridge;
+    std::vector<restir::ReuseInput<stub::Sample, stub::Surface>> lent;
+    for (std::uint32_t i = 1u; i < 6u; ++i)
+        lent.push_back({&inputs[i], &surfaces[i]});
+    stub::Rng a{7u}, b{7u};
+    const R old = restir::combine_reservoirs(inputs[0], surfaces[0], lent.data(), 5u,
+                                             restir::ReuseParams{}, pixels, a);
+    const R expected =
+        restir::combine_inputs(inputs[0], surfaces[0],
+                               restir::ReuseInputSpan<stub::Sample, stub::Surface>{lent.data(), 5u},
+                               restir::ReuseParams{}, pixels, b);
+    expect_same({old}, {expected});
 }
 
 } // namespace

@@ -309,13 +309,18 @@ struct Shading {
     }
 };
 
+/// The frame's bridge: our collaborators, the candidates drawn `Lanes` at a time.
+template <std::uint32_t Lanes>
+RESTIR_HOST_DEVICE auto frame_bridge(const Context& c) {
+    return restir::DiBridge{InitialCandidates<Lanes>{c}, c.bridge(), PixelRngs{c}, Shading{c}};
+}
+
 /// Step `step` of `frame` (stage `Stage`) at pixel (x, y): the recipe's code, nothing of ours
 /// but the collaborators.
 template <restir::DiStage Stage, std::uint32_t Lanes, class Frame>
 RESTIR_HOST_DEVICE void run_step(const Frame& frame, const restir::DiStep& step, const Context& c,
                                  std::uint32_t x, std::uint32_t y) {
-    frame.template run_stage<Stage>(step, c.pixel(x, y), c.buffers(), InitialCandidates<Lanes>{c},
-                                    c.bridge(), PixelRngs{c}, Shading{c});
+    frame.template run_stage<Stage>(step, c.pixel(x, y), c.buffers(), frame_bridge<Lanes>(c));
 }
 
 /// The rows of the timing table: the passes that are not the recipe's, then one per stage of

@@ -39,9 +39,9 @@ __global__ void pass_kernel(Context c) {
 }
 
 // At most this many threads a block of a step kernel (--block), and at least this many such
-// blocks an SM can hold: the register budget (96 a thread) that keeps 20 warps resident. Without
-// it the candidates and spatial kernels took 107 and 114 registers (16 warps) and were 10 % and
-// 5 % slower (docs/performance.md, "GPU").
+// blocks an SM can hold: the register budget (96 a thread) that keeps 20 warps resident, not
+// the 16 that the candidates and spatial kernels' own register counts would leave
+// (docs/performance.md, "GPU").
 inline constexpr std::uint32_t step_block_threads = 128u;
 inline constexpr std::uint32_t step_blocks_per_sm = 5u;
 
@@ -84,24 +84,15 @@ template <class Frame>
 void launch_step(const Frame& frame, const DiStep& step, const Context& c) {
     const dim3 grid((c.width + pixel_block.x - 1) / pixel_block.x,
                     (c.height + pixel_block.y - 1) / pixel_block.y);
-    switch (step.stage) {
-    case DiStage::initial:
-        return with_lanes(c, [&]<std::uint32_t Lanes>() {
-            step_kernel<DiStage::initial, Lanes><<<grid, pixel_block>>>(frame, step, c);
-        });
-    case DiStage::temporal:
-        return step_kernel<DiStage::temporal, restir::tile_group_size>
-            <<<grid, pixel_block>>>(frame, step, c);
-    case DiStage::spatial:
-        return step_kernel<DiStage::spatial, restir::tile_group_size>
-            <<<grid, pixel_block>>>(frame, step, c);
-    case DiStage::boiling:
-        return step_kernel<DiStage::boiling, restir::tile_group_size>
-            <<<grid, pixel_block>>>(frame, step, c);
-    case DiStage::finish:
-        return step_kernel<DiStage::finish, restir::tile_group_size>
-            <<<grid, pixel_block>>>(frame, step, c);
-    }
+    restir::visit_stage(step.stage, [&](auto stage) {
+        constexpr DiStage Stage = decltype(stage)::value;
+        if constexpr (Stage == DiStage::initial) // the candidates' kernel for each lane count
+            with_lanes(c, [&]<std::uint32_t Lanes>() {
+                step_kernel<Stage, Lanes><<<grid, pixel_block>>>(frame, step, c);
+            });
+        else
+            step_kernel<Stage, restir::tile_group_size><<<grid, pixel_block>>>(frame, step, c);
+    });
 }
 
 // `body(x, y)` for every item of a w x h grid on `threads` CPU threads: rows (pixels) or runs
@@ -176,8 +167,7 @@ void run_work(const Work& w, const Context& c, bool gpu, std::uint32_t threads) 
     const restir::DiBuffers<restir::LightPointSample> buffers = c.buffers();
     with_lanes(c, [&]<std::uint32_t Lanes>() {
         for_each_item(c.width, c.height, threads, [&](std::uint32_t x, std::uint32_t y) {
-            frame.run_pixel(w.step, c.pixel(x, y), buffers, box::InitialCandidates<Lanes>{c},
-                            c.bridge(), box::PixelRngs{c}, box::Shading{c});
+            frame.run_pixel(w.step, c.pixel(x, y), buffers, box::frame_bridge<Lanes>(c));
         });
     });
 }

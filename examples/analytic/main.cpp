@@ -146,12 +146,25 @@ std::vector<double> render(const Patch& patch, std::uint64_t seed, std::uint32_t
     const auto target_at = [&](const restir::LightSampleRef& s, const Texel& t) {
         return irradiance(patch.lights, s, t);
     };
-    const restir::ReuseBridge bridge{target_at, patch.visibility()};
     const auto same_pixel = [](restir::PixelCoord p) { return p; }; // a still camera
     const auto for_each_pixel = [](const auto& stage) { // a parallel loop in a real renderer
         for (std::uint32_t i = 0; i < pixels; ++i)
             stage(restir::PixelCoord{int(i % size), int(i / size)});
     };
+    std::uint32_t f = 0; // the frame's index, which the pixels' random streams depend on
+    // The application's side of the frame: initial candidates, p-hat and visibility for
+    // reuse, each pixel's random streams (no shading callback: the image is read from `out`).
+    const restir::DiBridge bridge{
+        [&](restir::PixelCoord, const Texel& texel, Random& rng) {
+            return restir::resample_ris(
+                rng, 8u, [&](Random& g) { return restir::draw_light_candidate(sampler, g); },
+                target_at, texel);
+        },
+        restir::ReuseBridge{target_at, patch.visibility()},
+        [&](restir::PixelCoord p, std::uint32_t stream) {
+            return Random{seed * 0x100000001b3ull + (f * 7919u + stream) * pixels +
+                          std::uint64_t(p.x + p.y * int(size))};
+        }};
     using Reservoir = restir::Reservoir<restir::LightSampleRef>;
     std::vector<Reservoir> history(pixels), out(pixels), scratch(pixels);
     restir::DiFrame<restir::LightSampleRef, Texel, decltype(same_pixel)> frame{
@@ -161,28 +174,16 @@ std::vector<double> render(const Patch& patch, std::uint64_t seed, std::uint32_t
     frame.params.spatial.radius = 4.0f;
     frame.params.temporal_reuse = reuse;
     frame.params.spatial_passes = reuse ? 1u : 0u;
-    for (std::uint32_t f = 0; f < frames; ++f) {
+    for (; f < frames; ++f) {
         frame.frame_index = f;
         if (f > 0) { // frame 0 (and a camera cut) has no history
             std::swap(history, out);
             frame.history = {history.data(), size, size};
             frame.previous_surfaces = frame.surfaces; // a still scene
         }
-        restir::run_di_frame(
-            frame,
-            restir::DiBuffers<restir::LightSampleRef>{{out.data(), size, size},
-                                                      {scratch.data(), size, size}},
-            for_each_pixel,
-            [&](restir::PixelCoord, const Texel& texel, Random& rng) { // initial candidates
-                return restir::resample_ris(
-                    rng, 8u, [&](Random& g) { return restir::draw_light_candidate(sampler, g); },
-                    target_at, texel);
-            },
-            bridge,
-            [&](restir::PixelCoord p, std::uint32_t stream) {
-                return Random{seed * 0x100000001b3ull + (f * 7919u + stream) * pixels +
-                              std::uint64_t(p.x + p.y * int(size))};
-            });
+        const restir::DiBuffers<restir::LightSampleRef> buffers{{out.data(), size, size},
+                                                                {scratch.data(), size, size}};
+        restir::run_di_frame(frame, buffers, bridge, for_each_pixel);
     }
     std::vector<double> image(pixels);
     for (std::uint32_t i = 0; i < pixels; ++i) // shading: W is 0 where occluded

@@ -159,11 +159,11 @@ struct RestirDi::Stages {
             if constexpr (Frame::loads_history)
                 stored_history[i] = restir::pack_reservoir(r);
         };
-        const restir::ReuseBridge bridge{
+        const restir::ReuseBridge reuse{
             [](const restir::LightPointSample& x, const GSurface& s) { return point_target(x, s); },
             gbuffer.shadow_packets()};
-        restir::run_di_frame(f, buffers, timed_tiles(f.frame_index, t), initial, bridge, rng_for,
-                             shade);
+        restir::run_di_frame(f, buffers, restir::DiBridge{initial, reuse, rng_for, shade},
+                             timed_tiles(f.frame_index, t));
     }
 
     // A pixel's radiance: its emission, the reservoir's light where `visible`, and with --gi

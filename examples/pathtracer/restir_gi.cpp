@@ -106,10 +106,11 @@ struct RestirGi::Stages {
                 image.pixels[i] +=
                     path_contribution(r.sample, gbuffer.surfaces()[i]) * r.contribution_weight;
         };
-        const restir::ReuseBridge bridge{
+        const restir::ReuseBridge reuse{
             PathTarget{}, restir::ReconnectionVisibility<EmbreeScene>{&rays, ray_offset},
             restir::AnyMaterial{}, settings.reconnection};
-        restir::run_di_frame(f, buffers, for_each_pixel, initial, bridge, rng_for, shade);
+        restir::run_di_frame(f, buffers, restir::DiBridge{initial, reuse, rng_for, shade},
+                             for_each_pixel);
         t.indirect = milliseconds_since(start);
     }
 };

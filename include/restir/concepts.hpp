@@ -29,6 +29,8 @@ namespace restir {
 //                                                another surface, with its Jacobian
 //   VisibilityFunction  reuse/visibility.hpp     `visible(sample, surface)` -> bool
 //   BatchVisibility     reuse/di_frame_tiles.hpp `tracer.trace(queries, visible)`
+//   DiFrameBridge       reuse/di_frame_bridge.hpp a frame's callbacks: `initial`, `reuse`,
+//                                                `rng_for`, `shade`
 //   Reprojection        reuse/temporal.hpp       `reproject(pixel)` -> last frame's pixel
 //   ReservoirHistory    reuse/history.hpp        last frame's reservoirs, loaded by value
 //   HistorySurfaces     reuse/history.hpp        last frame's surfaces, decoded

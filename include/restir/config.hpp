@@ -19,6 +19,15 @@
 #define RESTIR_DEVICE_COMPILER 0
 #endif
 
+/// Before a `RESTIR_HOST_DEVICE` template that only calls what it is given (`visit_stage`):
+/// under nvcc, the callable decides where it runs (a host lambda that launches kernels, a
+/// device one that runs a stage), so the host/device check of the call is left to it.
+#if defined(__CUDACC__) && !defined(__HIPCC__)
+#define RESTIR_CALLS_ANY_SIDE _Pragma("nv_exec_check_disable")
+#else
+#define RESTIR_CALLS_ANY_SIDE
+#endif
+
 /// Before a loop of a compile-time trip count over a small array: in device code, unrolls it so
 /// that the array's indices are constants and it stays in registers (not local memory).
 #if defined(__CUDA_ARCH__)

@@ -404,9 +404,11 @@ __global__ void recipe_step_kernel(Frame frame, restir::DiStep step,
     restir::PixelCoord pixel;
     if (!recipe_pixel(frame, pixel))
         return;
-    const restir::ReuseBridge bridge{SurfaceTarget{light_positions}, HeightVisibility{}};
-    frame.template run_stage<Stage>(step, pixel, buffers, InitialRis{light_positions, light_count},
-                                    bridge, PixelRngs{frame.frame_index, buffers.out.width}, shade);
+    const restir::DiBridge bridge{
+        InitialRis{light_positions, light_count},
+        restir::ReuseBridge{SurfaceTarget{light_positions}, HeightVisibility{}},
+        PixelRngs{frame.frame_index, buffers.out.width}, shade};
+    frame.template run_stage<Stage>(step, pixel, buffers, bridge);
 }
 
 // The whole frame as a GPU renderer runs it: the recipe's steps in order, a kernel each.
@@ -417,28 +419,10 @@ void launch_recipe(const Frame& frame, const glm::vec3* light_positions, std::ui
     const dim3 grid((buffers.out.width + 7u) / 8u, (buffers.out.height + 7u) / 8u);
     for (std::uint32_t i = 0; i < frame.step_count(); ++i) {
         const restir::DiStep s = frame.step(i);
-        switch (s.stage) {
-        case restir::DiStage::initial:
-            recipe_step_kernel<restir::DiStage::initial>
-                <<<grid, block>>>(frame, s, light_positions, light_count, buffers);
-            break;
-        case restir::DiStage::temporal:
-            recipe_step_kernel<restir::DiStage::temporal>
-                <<<grid, block>>>(frame, s, light_positions, light_count, buffers);
-            break;
-        case restir::DiStage::spatial:
-            recipe_step_kernel<restir::DiStage::spatial>
-                <<<grid, block>>>(frame, s, light_positions, light_count, buffers);
-            break;
-        case restir::DiStage::boiling:
-            recipe_step_kernel<restir::DiStage::boiling>
-                <<<grid, block>>>(frame, s, light_positions, light_count, buffers);
-            break;
-        case restir::DiStage::finish:
-            recipe_step_kernel<restir::DiStage::finish>
+        restir::visit_stage(s.stage, [&](auto stage) {
+            recipe_step_kernel<decltype(stage)::value>
                 <<<grid, block>>>(frame, s, light_positions, light_count, buffers, shade);
-            break;
-        }
+        });
     }
 }
 

@@ -1,6 +1,8 @@
 // Uses every deprecated name of the reuse and sampling headers once; compiled with
 // -Werror=deprecated-declarations it must fail with one error per name (deprecation.warns).
+#include <restir/reuse/bias_correction.hpp>
 #include <restir/reuse/di_frame.hpp>
+#include <restir/reuse/di_frame_tiles.hpp>
 #include <restir/reuse/neighbour_offsets.hpp>
 #include <restir/reuse/spatial.hpp>
 #include <restir/reuse/spatiotemporal.hpp>
@@ -8,6 +10,8 @@
 #include <restir/sampling/diffuse_direction.hpp>
 
 #include "support/stub_bridge.hpp"
+
+#include <vector>
 
 restir::Reservoir<stub::Sample> probe_reuse(const restir::Reservoir<stub::Sample>& current,
                                             const stub::Surface& surface) {
@@ -28,4 +32,35 @@ std::uint32_t probe_reuse_inputs(const restir::Reservoir<stub::Sample>& current,
     const restir::SingleReuseInput<stub::Sample, stub::Surface> single{{&current, &surface}};
     const restir::LoadedHistoryInput<stub::Sample, stub::Surface> history{current, &surface};
     return search.neighbour_count + single.size() + history.reservoir.candidate_count;
+}
+
+// The frame recipe's callbacks one by one, the forms before `DiBridge`.
+void probe_frame(std::vector<restir::Reservoir<stub::Sample>>& out,
+                 std::vector<restir::Reservoir<stub::Sample>>& scratch,
+                 const std::vector<stub::Surface>& surfaces) {
+    restir::DiFrame<stub::Sample, stub::Surface, stub::Reprojection> frame;
+    frame.surfaces = {surfaces.data(), 1u, 1u};
+    const restir::DiBuffers<stub::Sample> buffers{{out.data(), 1u, 1u}, {scratch.data(), 1u, 1u}};
+    const auto initial = [](restir::PixelCoord, const stub::Surface&, stub::Rng&) {
+        return restir::Reservoir<stub::Sample>{};
+    };
+    const auto rng_for = [](restir::PixelCoord, std::uint32_t) { return stub::Rng{}; };
+    const auto each_pixel = [](const auto& body) { body(restir::PixelCoord{0, 0}); };
+    const auto each_tile = [](const restir::DiStep&, const auto& body) {
+        body(restir::PixelTile{{0, 0}, {1, 1}});
+    };
+    const restir::ReuseBridge pixels{stub::Target{}, stub::Visibility{}};
+    const restir::ReuseBridge tiles{stub::Target{}, restir::OneByOne<stub::Visibility>{}};
+    restir::run_di_frame(frame, buffers, each_pixel, initial, pixels, rng_for);
+    restir::run_di_frame(frame, buffers.out, buffers.scratch, each_pixel, initial, pixels, rng_for);
+    restir::run_di_frame(frame, buffers, each_tile, initial, tiles, rng_for);
+    const restir::DiStep step = frame.step(0u);
+    restir::run_di_step(frame, step, restir::PixelTile{{0, 0}, {1, 1}}, buffers, initial, tiles,
+                        rng_for);
+    frame.run_pixel(step, {0, 0}, buffers, initial, pixels, rng_for);
+    frame.run_stage<restir::DiStage::initial>(step, {0, 0}, buffers, initial, pixels, rng_for);
+    const restir::ReuseInput<stub::Sample, stub::Surface> lent{&out[0], &surfaces[0]};
+    stub::Rng rng;
+    out[0] = restir::combine_reservoirs(out[0], surfaces[0], &lent, 1u, restir::ReuseParams{},
+                                        pixels, rng);
 }

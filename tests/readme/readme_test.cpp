@@ -16,13 +16,15 @@ TEST(Readme, SnippetsCompileTogetherAndRun) {
 }
 
 // The integration guide renders its frames, then the last frame again step by step as GPU
-// kernels would, and again per tile with batched rays: the images are finite and non-negative,
-// light reaches the floor, and the step-by-step and tiled frames equal run_di_frame's.
+// kernels would, and again per tile with batched rays, then frames of a glossy floor with light
+// and BSDF candidates: the images are finite and non-negative, light reaches the floor, and the
+// step-by-step and tiled frames equal run_di_frame's.
 TEST(Integration, SnippetsCompileTogetherAndRun) {
     integration::presented().clear();
     integration::render_frames();
     const auto& images = integration::presented();
-    ASSERT_EQ(images.size(), integration::frame_count + 2u);
+    // Every frame of section 4, the step-by-step and tiled frames, the glossy frame of section 9.
+    ASSERT_EQ(images.size(), integration::frame_count + 3u);
     for (const auto& image : images) {
         double sum = 0.0;
         for (const glm::vec3& c : image) {

@@ -142,8 +142,11 @@ public:
         };
         constexpr bool tiles = std::is_same_v<Surfaces, restir::ImageView<const Patch>>;
         if (!tiles || tile_side_ == 0) {
-            restir::run_di_frame(f, buffers, for_each_pixel, initial,
-                                 restir::ReuseBridge{Target{}, CountingVisibility{&rays}}, rngs);
+            restir::run_di_frame(
+                f, buffers,
+                restir::DiBridge{initial, restir::ReuseBridge{Target{}, CountingVisibility{&rays}},
+                                 rngs},
+                for_each_pixel);
             return out_;
         }
         // Tiles in an order that is not the pixels' (last row of tiles first).
@@ -155,9 +158,11 @@ public:
                         {x, y}, {std::min(w, x + tile_side_), std::min(h, y + tile_side_)}});
         };
         if constexpr (tiles) // the tiles' questions point into an array of surfaces
-            restir::run_di_frame(f, buffers, for_each_tile, initial,
-                                 restir::ReuseBridge{Target{}, CountingBatches{&rays, &batches}},
-                                 rngs);
+            restir::run_di_frame(
+                f, buffers,
+                restir::DiBridge{
+                    initial, restir::ReuseBridge{Target{}, CountingBatches{&rays, &batches}}, rngs},
+                for_each_tile);
         return out_;
     }
     const std::vector<Patch>& surfaces() const { return surfaces_; }

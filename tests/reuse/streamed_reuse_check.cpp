@@ -96,9 +96,11 @@ std::uint64_t frames_hash(restir::BiasCorrection mode) {
                    : restir::ImageView<const restir::Reservoir<stub::Sample>>{};
         const restir::DiBuffers<stub::Sample> buffers{{out.data(), size, size},
                                                       {scratch.data(), size, size}};
-        restir::run_di_frame(
-            frame, buffers, for_each_pixel, initial, bridge,
-            [&](restir::PixelCoord p, std::uint32_t stream) { return rng_at(p, stream, f); });
+        const auto rng_for = [&](restir::PixelCoord p, std::uint32_t stream) {
+            return rng_at(p, stream, f);
+        };
+        restir::run_di_frame(frame, buffers, restir::DiBridge{initial, bridge, rng_for},
+                             for_each_pixel);
         for (const auto& r : out)
             hash.add(r);
         std::swap(history, out);

@@ -138,9 +138,11 @@ TEST(StreamedReuse, ComputedSetEqualsTheArrayOfItsInputs) {
                 restir::Pcg32 b = a;
                 const Reservoir<LightId> streamed =
                     restir::combine_inputs(t.reservoirs[0], t.patches[0], set, params, bridge, a);
-                const Reservoir<LightId> gathered = restir::combine_reservoirs(
-                    t.reservoirs[0], t.patches[0], array.data(),
-                    static_cast<std::uint32_t>(array.size()), params, bridge, b);
+                const Reservoir<LightId> gathered = restir::combine_inputs(
+                    t.reservoirs[0], t.patches[0],
+                    restir::ReuseInputSpan<LightId, Patch>{
+                        array.data(), static_cast<std::uint32_t>(array.size())},
+                    params, bridge, b);
                 ASSERT_NO_FATAL_FAILURE(expect_same(streamed, gathered, a, b, trial));
                 ASSERT_EQ(streamed.candidate_count, expected_m) << "trial " << trial;
                 ++compared;
@@ -185,12 +187,16 @@ TEST(StreamedReuse, MalformedInputTakesPartAsIfAbsent) {
                 restir::Pcg32 a =
                     restir::make_pixel_rng(trial, 2u, static_cast<std::uint32_t>(variant));
                 restir::Pcg32 b = a;
-                const Reservoir<LightId> r_with = restir::combine_reservoirs(
-                    t.reservoirs[0], t.patches[0], with.data(),
-                    static_cast<std::uint32_t>(with.size()), params, bridge, a);
-                const Reservoir<LightId> r_without = restir::combine_reservoirs(
-                    t.reservoirs[0], t.patches[0], without.data(),
-                    static_cast<std::uint32_t>(without.size()), params, bridge, b);
+                const Reservoir<LightId> r_with = restir::combine_inputs(
+                    t.reservoirs[0], t.patches[0],
+                    restir::ReuseInputSpan<LightId, Patch>{with.data(),
+                                                           static_cast<std::uint32_t>(with.size())},
+                    params, bridge, a);
+                const Reservoir<LightId> r_without = restir::combine_inputs(
+                    t.reservoirs[0], t.patches[0],
+                    restir::ReuseInputSpan<LightId, Patch>{
+                        without.data(), static_cast<std::uint32_t>(without.size())},
+                    params, bridge, b);
                 ASSERT_NO_FATAL_FAILURE(expect_same(r_with, r_without, a, b, trial));
             }
     }

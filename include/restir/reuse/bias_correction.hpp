@@ -308,13 +308,15 @@ requires ReuseInputs<Inputs, Sample, S> && TargetFunction<Target, Sample, S> &&
                                                           params, bridge, rng);
 }
 
-/// `combine_inputs` over `neighbour_count` inputs gathered into an array (for renderers that
-/// collect a pass's inputs ahead of it); the first max_reuse_inputs - 1 well-formed ones take
-/// part.
+/// `combine_inputs` over `neighbour_count` inputs gathered into an array; the first
+/// max_reuse_inputs - 1 well-formed ones take part. Deprecated (pass a `ReuseInputSpan` to
+/// `combine_inputs`); to be removed in 0.4.
 template <class Sample, Surface S, class Target, class Visibility, class MaterialTest, class Shift,
           UniformRng Rng>
 requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
-    RESTIR_HOST_DEVICE Reservoir<Sample>
+[[deprecated(
+    "pass restir::ReuseInputSpan{inputs, count} to restir::combine_inputs")]] RESTIR_HOST_DEVICE
+    Reservoir<Sample>
     combine_reservoirs(const Reservoir<Sample>& receiver_reservoir, const S& surface,
                        const ReuseInput<Sample, S>* neighbours, std::uint32_t neighbour_count,
                        const ReuseParams& params,

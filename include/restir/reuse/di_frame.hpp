@@ -19,10 +19,12 @@
 /// MIS weights trace rays reads them (`DiStep::retest`), and by the last reuse step when that
 /// spares `finish` its rays (`DiFrame::last_reuse_retests`).
 ///
+/// The application's callbacks come in one object, a `DiBridge` (reuse/di_frame_bridge.hpp).
 /// Two ways to run a step, one set of rules: per pixel with a `VisibilityFunction` that traces
 /// each ray when asked (`DiFrame::run_pixel`, a GPU thread with inline ray queries), or per
 /// tile of pixels with a `BatchVisibility` that traces each stage's rays as one batch
-/// (reuse/di_frame_tiles.hpp, CPU packets). `run_di_frame` runs every step over an image.
+/// (reuse/di_frame_tiles.hpp, CPU packets). `run_di_frame(frame, buffers, bridge, schedule)`
+/// runs every step over an image.
 #pragma once
 
 #include "restir/concepts.hpp"
@@ -32,6 +34,7 @@
 #include "restir/core/rng.hpp"
 #include "restir/reuse/bias_correction.hpp"
 #include "restir/reuse/boiling_filter.hpp"
+#include "restir/reuse/di_frame_bridge.hpp"
 #include "restir/reuse/di_frame_params.hpp"
 #include "restir/reuse/history.hpp"
 #include "restir/reuse/image_view.hpp"
@@ -51,42 +54,6 @@ namespace restir {
 /// The random streams' name before 0.2.
 using DiStream [[deprecated("use restir::RngStream")]] = RngStream;
 
-/// The stages of a frame, in their order.
-enum class DiStage : std::uint8_t { initial, temporal, spatial, boiling, finish };
-
-/// One step of a frame: a stage, the buffers it reads and writes (0: `out`, 1: `scratch` of
-/// `DiBuffers`), and whether its new samples are retested before the next step reads them.
-struct DiStep {
-    DiStage stage = DiStage::initial;
-    std::uint32_t pass = 0u;   ///< The spatial pass (0 for the other stages).
-    std::uint32_t input = 0u;  ///< Buffer read (the initial stage reads none).
-    std::uint32_t output = 0u; ///< Buffer written; `finish` writes the buffer it reads, `out`.
-    /// Results whose sample differs from the input's are visibility-tested (W = 0 when
-    /// occluded): the next step is a spatial pass whose MIS weights trace rays (an unbiased
-    /// mode under `ReuseVisibility::traced`), or this is the last reuse step and its input was
-    /// tested throughout, so that `finish` needs no ray (`DiFrame::finish_retests`).
-    bool retest = false;
-};
-
-/// The two reservoir buffers of a frame, each of the image's size: the final reservoirs end
-/// in `out` (the next frame's history), `scratch` is the other side of the ping-pong. Neither
-/// may be the history.
-template <class Sample>
-struct DiBuffers {
-    ImageView<Reservoir<Sample>> out{};
-    ImageView<Reservoir<Sample>> scratch{};
-    RESTIR_HOST_DEVICE constexpr ImageView<Reservoir<Sample>> operator[](std::uint32_t i) const {
-        return i == 0u ? out : scratch;
-    }
-};
-
-/// A `shade(pixel, reservoir, visible)` that does nothing: the final reservoirs stay in `out`.
-struct NoShading {
-    template <class Sample>
-    RESTIR_HOST_DEVICE constexpr void operator()(PixelCoord, const Reservoir<Sample>&,
-                                                 bool) const noexcept {}
-};
-
 /// One frame of the recipe: the settings and the buffers that every pixel's stages read.
 /// Views hold pointers into the application's buffers (device pointers on a GPU).
 /// `Reproject` is `PixelCoord(PixelCoord)`: the previous frame's pixel that shows a pixel's
@@ -101,6 +68,8 @@ template <class Sample, Surface S, Reprojection Reproject,
 requires(std::same_as<History, ImageView<const Reservoir<Sample>>> ||
          ReservoirHistory<History, Sample>) &&
     SurfaceSource<Surfaces, S> struct DiFrame {
+    using SampleType = Sample;
+    using SurfaceType = S;
     DiFrameParams params = default_di_frame_params();
     std::uint32_t frame_index = 0u;
     /// This frame's G-buffer.
@@ -230,69 +199,47 @@ requires(std::same_as<History, ImageView<const Reservoir<Sample>>> ||
 
     // --- Per pixel, visibility traced when asked ------------------------------------------
 
-    /// Step `step` at `pixel`, every ray traced through `bridge.visibility` when asked (a
-    /// `VisibilityFunction`). `initial_candidates(pixel, surface, rng)` returns the pixel's
-    /// finalised RIS reservoir (called for valid surfaces only); `rng_for(pixel, stream)` a
-    /// generator for the pixel and a `RngStream` stream; `shade(pixel, reservoir, visible)` is
-    /// called by `finish` with the final reservoir and whether f(y) W is to be shaded.
-    template <class Initial, class Target, class Visibility, class MaterialTest, class Shift,
-              class RngFor, class Shade = NoShading>
-    requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
-        RESTIR_HOST_DEVICE void
-        run_pixel(const DiStep& step, PixelCoord pixel, const DiBuffers<Sample>& buffers,
-                  const Initial& initial_candidates,
-                  const ReuseBridge<Target, Visibility, MaterialTest, Shift>& bridge,
-                  const RngFor& rng_for, const Shade& shade = {}) const {
-        switch (step.stage) {
-        case DiStage::initial:
-            return run_stage<DiStage::initial>(step, pixel, buffers, initial_candidates, bridge,
-                                               rng_for, shade);
-        case DiStage::temporal:
-            return run_stage<DiStage::temporal>(step, pixel, buffers, initial_candidates, bridge,
-                                                rng_for, shade);
-        case DiStage::spatial:
-            return run_stage<DiStage::spatial>(step, pixel, buffers, initial_candidates, bridge,
-                                               rng_for, shade);
-        case DiStage::boiling:
-            return run_stage<DiStage::boiling>(step, pixel, buffers, initial_candidates, bridge,
-                                               rng_for, shade);
-        case DiStage::finish:
-            return run_stage<DiStage::finish>(step, pixel, buffers, initial_candidates, bridge,
-                                              rng_for, shade);
-        }
+    /// Step `step` at `pixel`, every ray traced through `bridge.reuse.visibility` when asked (a
+    /// `VisibilityFunction`); `bridge` a `DiFrameBridge` (reuse/di_frame_bridge.hpp).
+    template <class Bridge>
+    requires DiFrameBridge<Bridge, Sample, S> RESTIR_HOST_DEVICE void
+    run_pixel(const DiStep& step, PixelCoord pixel, const DiBuffers<Sample>& buffers,
+              const Bridge& bridge) const {
+        visit_stage(step.stage, [&](auto stage) {
+            run_stage<decltype(stage)::value>(step, pixel, buffers, bridge);
+        });
     }
 
     /// `run_pixel` for a step of stage `Stage` (`step.stage`), for a kernel per stage that
-    /// compiles only that stage's code.
-    template <DiStage Stage, class Initial, class Target, class Visibility, class MaterialTest,
-              class Shift, class RngFor, class Shade = NoShading>
-    requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sample, S>
-        RESTIR_HOST_DEVICE void
-        run_stage(const DiStep& step, PixelCoord pixel, const DiBuffers<Sample>& buffers,
-                  const Initial& initial_candidates,
-                  const ReuseBridge<Target, Visibility, MaterialTest, Shift>& bridge,
-                  const RngFor& rng_for, const Shade& shade = {}) const {
+    /// compiles only that stage's code. The stages' bodies, in their order.
+    template <DiStage Stage, class Bridge>
+    requires DiFrameBridge<Bridge, Sample, S> RESTIR_HOST_DEVICE void
+    run_stage(const DiStep& step, PixelCoord pixel, const DiBuffers<Sample>& buffers,
+              const Bridge& bridge) const {
+        static_assert(VisibilityFunction<decltype(bridge.reuse.visibility), Sample, S>,
+                      "per pixel, bridge.reuse.visibility is a VisibilityFunction");
         RESTIR_ASSERT(step.stage == Stage);
+        const auto& reuse = bridge.reuse;
         const ImageView<Reservoir<Sample>> output = buffers[step.output];
         const ImageView<const Reservoir<Sample>> input = buffers[step.input];
         if constexpr (Stage == DiStage::initial) {
-            Reservoir<Sample> r = initial_reservoir(pixel, initial_candidates, rng_for);
+            Reservoir<Sample> r = initial_reservoir(pixel, bridge.initial, bridge.rng_for);
             if (tests(r))
-                apply_visibility(r, surface_at(surfaces, pixel), bridge.visibility);
+                apply_visibility(r, surface_at(surfaces, pixel), reuse.visibility);
             output[pixel] = r;
         } else if constexpr (Stage == DiStage::temporal) {
-            auto rng = rng_for(pixel, RngStream::temporal);
+            auto rng = bridge.rng_for(pixel, RngStream::temporal);
             Reservoir<Sample> r =
-                temporal(pixel, input[pixel], temporal_input(pixel, bridge), bridge, rng);
-            retest_immediately(step, pixel, r, input[pixel], bridge.visibility);
+                temporal(pixel, input[pixel], temporal_input(pixel, reuse), reuse, rng);
+            retest_immediately(step, pixel, r, input[pixel], reuse.visibility);
             output[pixel] = r;
         } else if constexpr (Stage == DiStage::spatial) {
-            auto rng = rng_for(pixel, RngStream::spatial + step.pass);
+            auto rng = bridge.rng_for(pixel, RngStream::spatial + step.pass);
             Reservoir<Sample> r = input[pixel];
             if (combines_at(pixel))
-                r = spatial_here(pixel, input, bridge,
-                                 neighbour_draw(pixel, step.pass, rng, rng_for), rng);
-            retest_immediately(step, pixel, r, input[pixel], bridge.visibility);
+                r = spatial_here(pixel, input, reuse,
+                                 neighbour_draw(pixel, step.pass, rng, bridge.rng_for), rng);
+            retest_immediately(step, pixel, r, input[pixel], reuse.visibility);
             output[pixel] = r;
         } else if constexpr (Stage == DiStage::boiling) {
             output[pixel] = boiling_filter(pixel, input, params.boiling);
@@ -300,13 +247,36 @@ requires(std::same_as<History, ImageView<const Reservoir<Sample>>> ||
             Reservoir<Sample> r = output[pixel];
             bool visible = r.has_sample();
             if (visible && finish_retests())
-                visible = bridge.visibility(r.sample, surface_at(surfaces, pixel));
+                visible = reuse.visibility(r.sample, surface_at(surfaces, pixel));
             if (carries_visibility(params.visibility)) {
                 apply_visibility(r, visible);
                 output[pixel] = r;
             }
-            shade(pixel, r, visible);
+            bridge.shade(pixel, static_cast<const Reservoir<Sample>&>(r), visible);
         }
+    }
+
+    /// The form of 0.2: the callbacks one by one. Deprecated; to be removed in 0.4.
+    template <class Initial, class Target, class Visibility, class MaterialTest, class Shift,
+              class RngFor, class Shade = NoShading>
+    [[deprecated("pass a restir::DiBridge: run_pixel(step, pixel, buffers, "
+                 "bridge)")]] RESTIR_HOST_DEVICE void
+    run_pixel(const DiStep& step, PixelCoord pixel, const DiBuffers<Sample>& buffers,
+              const Initial& initial,
+              const ReuseBridge<Target, Visibility, MaterialTest, Shift>& reuse,
+              const RngFor& rng_for, const Shade& shade = {}) const {
+        run_pixel(step, pixel, buffers, detail::bridge_of(initial, reuse, rng_for, shade));
+    }
+    /// The form of 0.2: the callbacks one by one. Deprecated; to be removed in 0.4.
+    template <DiStage Stage, class Initial, class Target, class Visibility, class MaterialTest,
+              class Shift, class RngFor, class Shade = NoShading>
+    [[deprecated("pass a restir::DiBridge: run_stage<Stage>(step, pixel, buffers, "
+                 "bridge)")]] RESTIR_HOST_DEVICE void
+    run_stage(const DiStep& step, PixelCoord pixel, const DiBuffers<Sample>& buffers,
+              const Initial& initial,
+              const ReuseBridge<Target, Visibility, MaterialTest, Shift>& reuse,
+              const RngFor& rng_for, const Shade& shade = {}) const {
+        run_stage<Stage>(step, pixel, buffers, detail::bridge_of(initial, reuse, rng_for, shade));
     }
 
     // --- The parts of a stage, for the per-pixel and the per-tile runs ----------------------
@@ -472,43 +442,53 @@ private:
     }
 };
 
-/// Runs one frame of the recipe over the image, per pixel, every ray traced when asked.
-/// `for_each_pixel(body)` calls `body(PixelCoord)` once for every pixel of the image, in any
-/// order or in parallel, and returns when all calls have returned. The other arguments are
-/// those of `DiFrame::run_pixel`. The final reservoirs end in `buffers.out`, the next frame's
-/// history. (reuse/di_frame_tiles.hpp runs it per tile with batched rays.)
+/// Runs one frame of the recipe over the image, per pixel, every ray traced when asked
+/// (`bridge.reuse.visibility` a `VisibilityFunction`). `for_each_pixel(body)` calls
+/// `body(PixelCoord)` once for every pixel of the image, in any order or in parallel, and
+/// returns when all calls have returned. The final reservoirs end in `buffers.out`, the next
+/// frame's history. (reuse/di_frame_tiles.hpp runs it per tile with batched rays.)
+template <class Sample, Surface S, Reprojection Reproject, class History, class Surfaces,
+          class Bridge, class ForEachPixel>
+requires DiFrameBridge<Bridge, Sample, S> &&
+    VisibilityFunction<decltype(std::declval<const Bridge&>().reuse.visibility), Sample, S>
+void run_di_frame(const DiFrame<Sample, S, Reproject, History, Surfaces>& frame,
+                  const DiBuffers<Sample>& buffers, const Bridge& bridge,
+                  const ForEachPixel& for_each_pixel) {
+    const std::uint32_t steps = frame.step_count();
+    for (std::uint32_t i = 0; i < steps; ++i) {
+        const DiStep step = frame.step(i);
+        for_each_pixel([&](PixelCoord pixel) { frame.run_pixel(step, pixel, buffers, bridge); });
+    }
+}
+
+/// The form of 0.2: the callbacks one by one. Deprecated; to be removed in 0.4.
 template <class Sample, Surface S, Reprojection Reproject, class History, class Surfaces,
           class ForEachPixel, class Initial, class Target, class Visibility, class MaterialTest,
           class Shift, class RngFor, class Shade = NoShading>
 requires VisibilityFunction<Visibility, Sample, S>
-void run_di_frame(const DiFrame<Sample, S, Reproject, History, Surfaces>& frame,
-                  const DiBuffers<Sample>& buffers, const ForEachPixel& for_each_pixel,
-                  const Initial& initial_candidates,
-                  const ReuseBridge<Target, Visibility, MaterialTest, Shift>& bridge,
-                  const RngFor& rng_for, const Shade& shade = {}) {
-    const std::uint32_t steps = frame.step_count();
-    for (std::uint32_t i = 0; i < steps; ++i) {
-        const DiStep step = frame.step(i);
-        for_each_pixel([&](PixelCoord pixel) {
-            frame.run_pixel(step, pixel, buffers, initial_candidates, bridge, rng_for, shade);
-        });
-    }
+[[deprecated("pass a restir::DiBridge: run_di_frame(frame, buffers, bridge, for_each_pixel)")]] void
+run_di_frame(const DiFrame<Sample, S, Reproject, History, Surfaces>& frame,
+             const DiBuffers<Sample>& buffers, const ForEachPixel& for_each_pixel,
+             const Initial& initial,
+             const ReuseBridge<Target, Visibility, MaterialTest, Shift>& reuse,
+             const RngFor& rng_for, const Shade& shade = {}) {
+    run_di_frame(frame, buffers, detail::bridge_of(initial, reuse, rng_for, shade), for_each_pixel);
 }
 
-/// `run_di_frame` with the final reservoirs in `out` and `scratch` the other buffer (the form
-/// of 0.1 and 0.2). Deprecated; to be removed in 0.4.
+/// The form of 0.1: the final reservoirs in `out` and `scratch` the other buffer. Deprecated;
+/// to be removed in 0.4.
 template <class Sample, Surface S, Reprojection Reproject, class History, class Surfaces,
           class ForEachPixel, class Initial, class Target, class Visibility, class MaterialTest,
           class Shift, class RngFor>
 requires VisibilityFunction<Visibility, Sample, S>
-[[deprecated("pass restir::DiBuffers{out, scratch}")]] void
+[[deprecated("pass restir::DiBuffers{out, scratch} and a restir::DiBridge")]] void
 run_di_frame(const DiFrame<Sample, S, Reproject, History, Surfaces>& frame,
              ImageView<Reservoir<Sample>> out, ImageView<Reservoir<Sample>> scratch,
-             const ForEachPixel& for_each_pixel, const Initial& initial_candidates,
-             const ReuseBridge<Target, Visibility, MaterialTest, Shift>& bridge,
+             const ForEachPixel& for_each_pixel, const Initial& initial,
+             const ReuseBridge<Target, Visibility, MaterialTest, Shift>& reuse,
              const RngFor& rng_for) {
-    run_di_frame(frame, DiBuffers<Sample>{out, scratch}, for_each_pixel, initial_candidates, bridge,
-                 rng_for);
+    run_di_frame(frame, DiBuffers<Sample>{out, scratch},
+                 detail::bridge_of(initial, reuse, rng_for, NoShading{}), for_each_pixel);
 }
 
 } // namespace restir

@@ -225,19 +225,208 @@ void test_tile(const PixelTile& tile, ImageView<Reservoir<Sample>> output, const
 
 } // namespace detail
 
-/// Step `step` of `frame` over `tile`, its rays traced in batches through `bridge.visibility`
-/// (a `BatchVisibility`); the other arguments as for `DiFrame::run_pixel`. Every pixel of the
-/// image must finish a step before any starts the next. Needs this frame's surfaces in an
+namespace detail {
+
+/// A `BatchVisibility` asked one question at a time: the `VisibilityFunction` of a stage that
+/// runs per pixel inside a tile.
+template <class Tracer>
+struct OneQueryAtATime {
+    const Tracer* tracer;
+    template <class Sample, class S>
+    bool operator()(const Sample& sample, const S& surface) const {
+        const VisibilityQuery<Sample, S> query{&sample, &surface};
+        bool visible = false;
+        tracer->trace(std::span<const VisibilityQuery<Sample, S>>(&query, 1u),
+                      std::span<bool>(&visible, 1u));
+        return visible;
+    }
+};
+
+/// `TileReuse` for a frame's reuse bridge (a `ReuseBridge` without a shift).
+template <class Sample, class S, class Target, class Tracer, class MaterialTest>
+TileReuse<Sample, S, Target, Tracer, MaterialTest>
+tile_reuse(const ReuseBridge<Target, Tracer, MaterialTest>& bridge, const ReuseParams& params) {
+    return {bridge, params};
+}
+
+/// Tests the results of a reuse step over `tile` whose sample the step brought in, when the
+/// step retests (`DiStep::retest`).
+template <class Frame, class Sample, class Bridge>
+void retest_tile(const Frame& frame, const DiStep& step, const PixelTile& tile,
+                 const DiBuffers<Sample>& buffers, const Bridge& bridge) {
+    if (!step.retest)
+        return;
+    const ImageView<const Reservoir<Sample>> input = buffers[step.input];
+    test_tile<Sample, typename Frame::SurfaceType>(
+        tile, buffers[step.output], frame.surfaces, bridge.reuse.visibility,
+        [&](PixelCoord pixel, const Reservoir<Sample>& r) {
+            return frame.retests(r, input[pixel]);
+        });
+}
+
+/// A stage over a tile. By default per pixel (`DiFrame::run_stage`), its rays traced one at a
+/// time: right for a stage that traces none (the boiling filter); the stages that trace rays
+/// gather them into one batch (the specialisations below).
+template <DiStage Stage>
+struct TileStage {
+    template <class Frame, class Sample, class Bridge>
+    static void run(const Frame& frame, const DiStep& step, const PixelTile& tile,
+                    const DiBuffers<Sample>& buffers, const Bridge& bridge) {
+        const auto& reuse = bridge.reuse;
+        const ReuseBridge one_at_a_time{
+            reuse.target, OneQueryAtATime<decltype(reuse.visibility)>{&reuse.visibility},
+            reuse.material_test, reuse.shift};
+        const auto per_pixel =
+            bridge_of(bridge.initial, one_at_a_time, bridge.rng_for, bridge.shade);
+        tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t) {
+            frame.template run_stage<Stage>(step, pixel, buffers, per_pixel);
+        });
+    }
+};
+
+/// The initial stage: the candidates of every pixel, then their visibility as one batch.
+template <>
+struct TileStage<DiStage::initial> {
+    template <class Frame, class Sample, class Bridge>
+    static void run(const Frame& frame, const DiStep& step, const PixelTile& tile,
+                    const DiBuffers<Sample>& buffers, const Bridge& bridge) {
+        const ImageView<Reservoir<Sample>> output = buffers[step.output];
+        tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t) {
+            output[pixel] = frame.initial_reservoir(pixel, bridge.initial, bridge.rng_for);
+        });
+        test_tile<Sample, typename Frame::SurfaceType>(
+            tile, output, frame.surfaces, bridge.reuse.visibility,
+            [&](PixelCoord, const Reservoir<Sample>& r) { return frame.tests(r); });
+    }
+};
+
+/// The temporal stage: every pixel's history input found and its MIS rays asked, traced as
+/// one batch, then every pixel combined with the answers.
+template <>
+struct TileStage<DiStage::temporal> {
+    template <class Frame, class Sample, class Bridge>
+    static void run(const Frame& frame, const DiStep& step, const PixelTile& tile,
+                    const DiBuffers<Sample>& buffers, const Bridge& bridge) {
+        using S = typename Frame::SurfaceType;
+        const ImageView<Reservoir<Sample>> output = buffers[step.output];
+        const ImageView<const Reservoir<Sample>> input = buffers[step.input];
+        auto reuse = tile_reuse<Sample, S>(bridge.reuse, frame.temporal_reuse_params());
+        decltype(frame.temporal_input(PixelCoord{}, bridge.reuse)) found[max_tile_pixels];
+        tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t k) {
+            found[k] = frame.temporal_input(pixel, bridge.reuse);
+            ReuseInput<Sample, S> lent{};
+            if constexpr (Frame::loads_history)
+                lent = found[k].lending();
+            else
+                lent = found[k];
+            if (reuse.asks && input[pixel].has_sample())
+                reuse.ask(k, input[pixel], SingleReuseInput<Sample, S>{lent});
+        });
+        reuse.queries.trace(bridge.reuse.visibility);
+        tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t k) {
+            auto rng = bridge.rng_for(pixel, RngStream::temporal);
+            output[pixel] = frame.temporal(pixel, input[pixel], found[k], reuse.answered(k), rng);
+        });
+        retest_tile(frame, step, tile, buffers, bridge);
+    }
+};
+
+/// The spatial stage: every pixel's neighbours found (those two pixels ahead prefetched) and
+/// its MIS rays asked, traced as one batch, then every pixel combined with the answers.
+template <>
+struct TileStage<DiStage::spatial> {
+    /// How many pixels ahead the search asks for the neighbours of: their first reads are the
+    /// pass's cache misses, which one pixel ahead leaves partly exposed.
+    static constexpr std::uint32_t ahead = 2u;
+
+    template <class Frame, class Sample, class Bridge>
+    static void run(const Frame& frame, const DiStep& step, const PixelTile& tile,
+                    const DiBuffers<Sample>& buffers, const Bridge& bridge) {
+        using S = typename Frame::SurfaceType;
+        const ImageView<const Reservoir<Sample>> input = buffers[step.input];
+        auto reuse = tile_reuse<Sample, S>(bridge.reuse, frame.spatial_reuse_params());
+        using Rng = decltype(bridge.rng_for(PixelCoord{}, 0u));
+        Rng rngs[max_tile_pixels];
+        NeighbourDraw draws[max_tile_pixels];
+        bool combines[max_tile_pixels];
+        GatheredInputs<Sample, S> gathered[max_tile_pixels];
+        tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t k) {
+            rngs[k] = bridge.rng_for(pixel, RngStream::spatial + step.pass);
+            combines[k] = frame.combines_at(pixel);
+            if (combines[k])
+                draws[k] = frame.neighbour_draw(pixel, step.pass, rngs[k], bridge.rng_for);
+        });
+        // Not a lambda: GCC deletes calls of functions whose only effects are prefetches.
+        for (std::uint32_t k = 0; k < ahead && k < tile.pixel_count(); ++k)
+            if (combines[k])
+                prefetch_spatial_neighbours(tile.pixel(k), input, frame.surfaces,
+                                            frame.params.spatial, frame.offset_table(), draws[k]);
+        tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t k) {
+            if (const std::uint32_t next = k + ahead; next < tile.pixel_count() && combines[next])
+                prefetch_spatial_neighbours(tile.pixel(next), input, frame.surfaces,
+                                            frame.params.spatial, frame.offset_table(),
+                                            draws[next]);
+            gathered[k].count = 0u;
+            if (!combines[k])
+                return;
+            // The lending neighbours gathered as they are found, in the streamed set's order.
+            frame.neighbours(pixel, input, bridge.reuse, draws[k],
+                             [&](PixelCoord p) { gathered[k].add(&input[p], &frame.surfaces[p]); });
+            if (reuse.asks && input[pixel].has_sample())
+                reuse.ask(k, input[pixel], gathered[k]);
+        });
+        reuse.queries.trace(bridge.reuse.visibility);
+        const ImageView<Reservoir<Sample>> output = buffers[step.output];
+        tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t k) {
+            output[pixel] =
+                combines[k] ? frame.spatial(pixel, input, gathered[k], reuse.answered(k), rngs[k])
+                            : input[pixel];
+        });
+        retest_tile(frame, step, tile, buffers, bridge);
+    }
+};
+
+/// The finish stage: the final visibility of the pixels that need it as one batch, then
+/// every pixel shaded.
+template <>
+struct TileStage<DiStage::finish> {
+    template <class Frame, class Sample, class Bridge>
+    static void run(const Frame& frame, const DiStep& step, const PixelTile& tile,
+                    const DiBuffers<Sample>& buffers, const Bridge& bridge) {
+        using S = typename Frame::SurfaceType;
+        constexpr std::uint32_t none = MisAnswers<Sample, S>::none;
+        const ImageView<Reservoir<Sample>> output = buffers[step.output];
+        TileQueries<Sample, S> queries;
+        std::uint32_t asked[max_tile_pixels];
+        const bool retests = frame.finish_retests();
+        tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t k) {
+            const Reservoir<Sample>& r = output[pixel];
+            asked[k] =
+                retests && r.has_sample() ? queries.add(r.sample, frame.surfaces[pixel]) : none;
+        });
+        queries.trace(bridge.reuse.visibility);
+        tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t k) {
+            Reservoir<Sample>& r = output[pixel];
+            const bool visible = r.has_sample() && (asked[k] == none || queries.visible[asked[k]]);
+            if (carries_visibility(frame.params.visibility))
+                apply_visibility(r, visible);
+            bridge.shade(pixel, static_cast<const Reservoir<Sample>&>(r), visible);
+        });
+    }
+};
+
+} // namespace detail
+
+/// Step `step` of `frame` over `tile`, its rays traced in batches through
+/// `bridge.reuse.visibility` (a `BatchVisibility`); `bridge` a `DiFrameBridge`. Every pixel of
+/// the image must finish a step before any starts the next. Needs this frame's surfaces in an
 /// array (`ImageView`), whose addresses the questions carry.
 template <class Sample, Surface S, Reprojection Reproject, class History, class Surfaces,
-          class Initial, class Target, class Tracer, class MaterialTest, class RngFor,
-          class Shade = NoShading>
-requires BatchVisibility<Tracer, Sample, S> && TargetFunction<Target, Sample, S>
+          class Bridge>
+requires DiFrameBridge<Bridge, Sample, S> &&
+    BatchVisibility<decltype(std::declval<const Bridge&>().reuse.visibility), Sample, S>
 void run_di_step(const DiFrame<Sample, S, Reproject, History, Surfaces>& frame, const DiStep& step,
-                 const PixelTile& tile, const DiBuffers<Sample>& buffers,
-                 const Initial& initial_candidates,
-                 const ReuseBridge<Target, Tracer, MaterialTest>& bridge, const RngFor& rng_for,
-                 const Shade& shade = {}) {
+                 const PixelTile& tile, const DiBuffers<Sample>& buffers, const Bridge& bridge) {
     static_assert(surfaces_in_array<Surfaces, S>,
                   "run_di_step needs this frame's surfaces in an ImageView");
     static_assert(
@@ -246,140 +435,55 @@ void run_di_step(const DiFrame<Sample, S, Reproject, History, Surfaces>& frame, 
         },
         "run_di_step matches MIS answers by sample: Sample needs operator==");
     RESTIR_ASSERT(tile.pixel_count() <= max_tile_pixels);
-    using Frame = DiFrame<Sample, S, Reproject, History, Surfaces>;
-    const ImageView<Reservoir<Sample>> output = buffers[step.output];
-    const ImageView<const Reservoir<Sample>> input = buffers[step.input];
-    const auto& surfaces = frame.surfaces;
-    const auto retested = [&](PixelCoord pixel, const Reservoir<Sample>& r) {
-        return step.retest && frame.retests(r, input[pixel]);
-    };
-    switch (step.stage) {
-    case DiStage::initial:
-        tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t) {
-            output[pixel] = frame.initial_reservoir(pixel, initial_candidates, rng_for);
-        });
-        detail::test_tile<Sample, S>(
-            tile, output, surfaces, bridge.visibility,
-            [&](PixelCoord, const Reservoir<Sample>& r) { return frame.tests(r); });
-        return;
-    case DiStage::temporal: {
-        detail::TileReuse<Sample, S, Target, Tracer, MaterialTest> reuse{
-            bridge, frame.temporal_reuse_params()};
-        decltype(frame.temporal_input(PixelCoord{}, bridge)) found[max_tile_pixels];
-        tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t k) {
-            found[k] = frame.temporal_input(pixel, bridge);
-            ReuseInput<Sample, S> lent{};
-            if constexpr (Frame::loads_history)
-                lent = found[k].lending();
-            else
-                lent = found[k];
-            if (reuse.asks && input[pixel].has_sample())
-                reuse.ask(k, input[pixel], detail::SingleReuseInput<Sample, S>{lent});
-        });
-        reuse.queries.trace(bridge.visibility);
-        tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t k) {
-            auto rng = rng_for(pixel, RngStream::temporal);
-            output[pixel] = frame.temporal(pixel, input[pixel], found[k], reuse.answered(k), rng);
-        });
-        break;
-    }
-    case DiStage::spatial: {
-        detail::TileReuse<Sample, S, Target, Tracer, MaterialTest> reuse{
-            bridge, frame.spatial_reuse_params()};
-        using Rng = decltype(rng_for(PixelCoord{}, 0u));
-        Rng rngs[max_tile_pixels];
-        NeighbourDraw draws[max_tile_pixels];
-        bool combines[max_tile_pixels];
-        detail::GatheredInputs<Sample, S> gathered[max_tile_pixels];
-        // Every pixel's neighbours drawn first, so that the search can ask for the neighbours
-        // of the pixel two ahead of the one it tests (their first reads are the pass's cache
-        // misses, which one pixel ahead leaves partly exposed).
-        constexpr std::uint32_t ahead = 2u;
-        tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t k) {
-            rngs[k] = rng_for(pixel, RngStream::spatial + step.pass);
-            combines[k] = frame.combines_at(pixel);
-            if (combines[k])
-                draws[k] = frame.neighbour_draw(pixel, step.pass, rngs[k], rng_for);
-        });
-        // Not a lambda: GCC deletes calls of functions whose only effects are prefetches.
-        for (std::uint32_t k = 0; k < ahead && k < tile.pixel_count(); ++k)
-            if (combines[k])
-                prefetch_spatial_neighbours(tile.pixel(k), input, surfaces, frame.params.spatial,
-                                            frame.offset_table(), draws[k]);
-        tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t k) {
-            if (const std::uint32_t next = k + ahead; next < tile.pixel_count() && combines[next])
-                prefetch_spatial_neighbours(tile.pixel(next), input, surfaces, frame.params.spatial,
-                                            frame.offset_table(), draws[next]);
-            gathered[k].count = 0u;
-            if (!combines[k])
-                return;
-            // The lending neighbours gathered as they are found, in the streamed set's order.
-            frame.neighbours(pixel, input, bridge, draws[k],
-                             [&](PixelCoord p) { gathered[k].add(&input[p], &surfaces[p]); });
-            if (reuse.asks && input[pixel].has_sample())
-                reuse.ask(k, input[pixel], gathered[k]);
-        });
-        reuse.queries.trace(bridge.visibility);
-        tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t k) {
-            output[pixel] = frame.combines_at(pixel) ? frame.spatial(pixel, input, gathered[k],
-                                                                     reuse.answered(k), rngs[k])
-                                                     : input[pixel];
-        });
-        break;
-    }
-    case DiStage::boiling:
-        tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t) {
-            output[pixel] = boiling_filter(pixel, input, frame.params.boiling);
-        });
-        return;
-    case DiStage::finish: {
-        detail::TileQueries<Sample, S> queries;
-        std::uint32_t asked[max_tile_pixels];
-        const bool retests = frame.finish_retests();
-        tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t k) {
-            const Reservoir<Sample>& r = output[pixel];
-            asked[k] = retests && r.has_sample() ? queries.add(r.sample, surfaces[pixel])
-                                                 : detail::MisAnswers<Sample, S>::none;
-        });
-        queries.trace(bridge.visibility);
-        tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t k) {
-            Reservoir<Sample>& r = output[pixel];
-            const bool visible =
-                r.has_sample() &&
-                (asked[k] == detail::MisAnswers<Sample, S>::none || queries.visible[asked[k]]);
-            if (carries_visibility(frame.params.visibility))
-                apply_visibility(r, visible);
-            shade(pixel, static_cast<const Reservoir<Sample>&>(r), visible);
-        });
-        return;
-    }
-    }
-    // The reuse stages: new samples retested before the next pass reads them.
-    if (step.retest)
-        detail::test_tile<Sample, S>(tile, output, surfaces, bridge.visibility, retested);
+    visit_stage(step.stage, [&](auto stage) {
+        detail::TileStage<decltype(stage)::value>::run(frame, step, tile, buffers, bridge);
+    });
 }
 
-/// Runs one frame of the recipe, per tile with batched rays. `for_each_tile(step, body)`
-/// calls `body(PixelTile)` for tiles that cover the image once (each of at most
-/// `max_tile_pixels`), in any order or in parallel, and returns when all calls have returned;
-/// it gets the step so that it may order tiles per stage or time each step. The other
-/// arguments as for `run_di_step`.
+/// Runs one frame of the recipe, per tile with batched rays (`bridge.reuse.visibility` a
+/// `BatchVisibility`). `for_each_tile(step, body)` calls `body(PixelTile)` for tiles that
+/// cover the image once (each of at most `max_tile_pixels`), in any order or in parallel, and
+/// returns when all calls have returned; it gets the step so that it may order tiles per stage
+/// or time each step.
+template <class Sample, Surface S, Reprojection Reproject, class History, class Surfaces,
+          class Bridge, class ForEachTile>
+requires DiFrameBridge<Bridge, Sample, S> &&
+    BatchVisibility<decltype(std::declval<const Bridge&>().reuse.visibility), Sample, S>
+void run_di_frame(const DiFrame<Sample, S, Reproject, History, Surfaces>& frame,
+                  const DiBuffers<Sample>& buffers, const Bridge& bridge,
+                  const ForEachTile& for_each_tile) {
+    const std::uint32_t steps = frame.step_count();
+    for (std::uint32_t i = 0; i < steps; ++i) {
+        const DiStep step = frame.step(i);
+        for_each_tile(
+            step, [&](const PixelTile& tile) { run_di_step(frame, step, tile, buffers, bridge); });
+    }
+}
+
+/// The form of 0.2: the callbacks one by one. Deprecated; to be removed in 0.4.
+template <class Sample, Surface S, Reprojection Reproject, class History, class Surfaces,
+          class Initial, class Target, class Tracer, class MaterialTest, class RngFor,
+          class Shade = NoShading>
+requires BatchVisibility<Tracer, Sample, S>
+[[deprecated("pass a restir::DiBridge: run_di_step(frame, step, tile, buffers, bridge)")]] void
+run_di_step(const DiFrame<Sample, S, Reproject, History, Surfaces>& frame, const DiStep& step,
+            const PixelTile& tile, const DiBuffers<Sample>& buffers, const Initial& initial,
+            const ReuseBridge<Target, Tracer, MaterialTest>& reuse, const RngFor& rng_for,
+            const Shade& shade = {}) {
+    run_di_step(frame, step, tile, buffers, detail::bridge_of(initial, reuse, rng_for, shade));
+}
+
+/// The form of 0.2: the callbacks one by one. Deprecated; to be removed in 0.4.
 template <class Sample, Surface S, Reprojection Reproject, class History, class Surfaces,
           class ForEachTile, class Initial, class Target, class Tracer, class MaterialTest,
           class RngFor, class Shade = NoShading>
 requires BatchVisibility<Tracer, Sample, S>
-void run_di_frame(const DiFrame<Sample, S, Reproject, History, Surfaces>& frame,
-                  const DiBuffers<Sample>& buffers, const ForEachTile& for_each_tile,
-                  const Initial& initial_candidates,
-                  const ReuseBridge<Target, Tracer, MaterialTest>& bridge, const RngFor& rng_for,
-                  const Shade& shade = {}) {
-    const std::uint32_t steps = frame.step_count();
-    for (std::uint32_t i = 0; i < steps; ++i) {
-        const DiStep step = frame.step(i);
-        for_each_tile(step, [&](const PixelTile& tile) {
-            run_di_step(frame, step, tile, buffers, initial_candidates, bridge, rng_for, shade);
-        });
-    }
+[[deprecated("pass a restir::DiBridge: run_di_frame(frame, buffers, bridge, for_each_tile)")]] void
+run_di_frame(const DiFrame<Sample, S, Reproject, History, Surfaces>& frame,
+             const DiBuffers<Sample>& buffers, const ForEachTile& for_each_tile,
+             const Initial& initial, const ReuseBridge<Target, Tracer, MaterialTest>& reuse,
+             const RngFor& rng_for, const Shade& shade = {}) {
+    run_di_frame(frame, buffers, detail::bridge_of(initial, reuse, rng_for, shade), for_each_tile);
 }
 
 } // namespace restir
