@@ -98,7 +98,7 @@ struct CornellRays {
             primary_match =
                 primary_match && s.found == p.found &&
                 (!s.found ||
-                 (s.triangle == p.triangle &&
+                 (s.primitive == p.primitive &&
                   glm::length(s.position - p.position) <= 1e-5f * glm::length(s.position) &&
                   std::abs(s.distance - p.distance) <= 1e-5f * s.distance && s.normal == p.normal));
         }

@@ -55,7 +55,7 @@ Reservoir tile_reservoir(const restir::LightTileArrays& from, std::uint32_t tile
 
 // `chosen` (RIS over a light tile at surface `s`) with its emitter point drawn again, uniform in
 // the solid angle the emitter subtends from `s` (--light-points solid-angle), where that pays
-// off (TriangleEmitters::redraw_pays_off). Unbiased by the argument of
+// off (SceneEmitters::redraw_pays_off: triangles only). Unbiased by the argument of
 // restir::redraw_point_from_receiver, for each emitter either kept or redrawn by a rule of the
 // emitter and the surface alone (never of the tile's point): the tiles' target is positive
 // exactly on the part of a one-sided emitter triangle above the surface's tangent plane, so the

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <limits>
 #include <string>
+#include <type_traits>
 
 namespace pt {
 
@@ -19,16 +20,84 @@ void report_error(void* /*user*/, RTCError code, const char* message) {
     (void)message; // surfaced through rtcGetDeviceError after each call that matters
 }
 
+// A list of light shapes as Embree user geometry: its boxes and its ray intersections are the
+// shapes' own (LightShape), for single rays and packets alike. The hit's normal is left to the
+// adapter (EmbreeScene::complete_hit), as for triangles.
+template <class Shape>
+struct ShapeGeometry {
+    static const Shape& shape_of(void* user, unsigned primitive) {
+        return static_cast<const Shape*>(user)[primitive];
+    }
+    static void bounds(const RTCBoundsFunctionArguments* args) {
+        const Shape& shape = shape_of(args->geometryUserPtr, args->primID);
+        const glm::vec3 lower = shape.lower(), upper = shape.upper();
+        RTCBounds& box = *args->bounds_o;
+        box.lower_x = lower.x;
+        box.lower_y = lower.y;
+        box.lower_z = lower.z;
+        box.upper_x = upper.x;
+        box.upper_y = upper.y;
+        box.upper_z = upper.z;
+    }
+    // Where ray i of the N of `rays` meets `shape` inside its (tnear, tfar), or infinity.
+    static float distance(const Shape& shape, RTCRayN* rays, unsigned n, unsigned i) {
+        const glm::vec3 origin{RTCRayN_org_x(rays, n, i), RTCRayN_org_y(rays, n, i),
+                               RTCRayN_org_z(rays, n, i)};
+        const glm::vec3 direction{RTCRayN_dir_x(rays, n, i), RTCRayN_dir_y(rays, n, i),
+                                  RTCRayN_dir_z(rays, n, i)};
+        return shape.intersect(origin, direction, RTCRayN_tnear(rays, n, i),
+                               RTCRayN_tfar(rays, n, i));
+    }
+    static void intersect(const RTCIntersectFunctionNArguments* args) {
+        const Shape& shape = shape_of(args->geometryUserPtr, args->primID);
+        RTCRayN* rays = RTCRayHitN_RayN(args->rayhit, args->N);
+        RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, args->N);
+        for (unsigned i = 0; i < args->N; ++i) {
+            const float t = args->valid[i] == 0 ? std::numeric_limits<float>::infinity()
+                                                : distance(shape, rays, args->N, i);
+            if (!(t < std::numeric_limits<float>::infinity()))
+                continue;
+            RTCRayN_tfar(rays, args->N, i) = t;
+            RTCHitN_Ng_x(hits, args->N, i) = 0.0f;
+            RTCHitN_Ng_y(hits, args->N, i) = 0.0f;
+            RTCHitN_Ng_z(hits, args->N, i) = 0.0f;
+            RTCHitN_u(hits, args->N, i) = 0.0f;
+            RTCHitN_v(hits, args->N, i) = 0.0f;
+            RTCHitN_primID(hits, args->N, i) = args->primID;
+            RTCHitN_geomID(hits, args->N, i) = args->geomID;
+            RTCHitN_instID(hits, args->N, i, 0) = args->context->instID[0];
+        }
+    }
+    static void occluded(const RTCOccludedFunctionNArguments* args) {
+        const Shape& shape = shape_of(args->geometryUserPtr, args->primID);
+        for (unsigned i = 0; i < args->N; ++i)
+            if (args->valid[i] != 0 &&
+                distance(shape, args->ray, args->N, i) < std::numeric_limits<float>::infinity())
+                RTCRayN_tfar(args->ray, args->N, i) = -std::numeric_limits<float>::infinity();
+    }
+};
+
 } // namespace
 
-EmbreeScene::EmbreeScene(const Scene& scene) {
+EmbreeScene::EmbreeScene(const Scene& scene) : shapes_(scene.shapes) {
+    check_shapes(scene);
     device_ = rtcNewDevice("verbose=0");
     if (device_ == nullptr)
         throw SceneError("Embree: cannot create a device");
     rtcSetDeviceErrorFunction(device_, report_error, nullptr);
     scene_ = rtcNewScene(device_);
     rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+    if (scene.triangle_count() > 0u || shapes_.count() == 0u)
+        attach_triangles(scene);
+    attach_shapes();
+    rtcCommitScene(scene_);
+    if (const RTCError error = rtcGetDeviceError(device_); error != RTC_ERROR_NONE)
+        throw SceneError("Embree: building the scene failed (error " +
+                         std::to_string(static_cast<int>(error)) + ")");
+}
 
+// The triangles as Embree geometry 0, with their normals.
+void EmbreeScene::attach_triangles(const Scene& scene) {
     RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
     auto* vertices = static_cast<float*>(
         rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
@@ -50,12 +119,45 @@ EmbreeScene::EmbreeScene(const Scene& scene) {
     for (std::uint32_t t = 0; t < scene.triangle_count(); ++t)
         normals_[t] = Triangle(scene, t).normal();
     rtcCommitGeometry(geometry);
-    rtcAttachGeometry(scene_, geometry);
+    first_primitive_.resize(rtcAttachGeometry(scene_, geometry) + 1u, 0u);
     rtcReleaseGeometry(geometry);
-    rtcCommitScene(scene_);
-    if (const RTCError error = rtcGetDeviceError(device_); error != RTC_ERROR_NONE)
-        throw SceneError("Embree: building the scene failed (error " +
-                         std::to_string(static_cast<int>(error)) + ")");
+}
+
+// Each non-empty list of shapes as one Embree user geometry (ShapeGeometry), their primitive
+// ids after the triangles' in the order of Scene::shapes.
+void EmbreeScene::attach_shapes() {
+    auto first = static_cast<std::uint32_t>(normals_.size());
+    shapes_.for_each_list([&](const auto& list) {
+        using Shape = typename std::decay_t<decltype(list)>::value_type;
+        if (!list.empty()) {
+            RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
+            rtcSetGeometryUserPrimitiveCount(geometry, static_cast<unsigned>(list.size()));
+            rtcSetGeometryUserData(geometry, const_cast<Shape*>(list.data()));
+            rtcSetGeometryBoundsFunction(geometry, &ShapeGeometry<Shape>::bounds, nullptr);
+            rtcSetGeometryIntersectFunction(geometry, &ShapeGeometry<Shape>::intersect);
+            rtcSetGeometryOccludedFunction(geometry, &ShapeGeometry<Shape>::occluded);
+            rtcCommitGeometry(geometry);
+            const unsigned id = rtcAttachGeometry(scene_, geometry);
+            rtcReleaseGeometry(geometry);
+            first_primitive_.resize(std::max<std::size_t>(first_primitive_.size(), id + 1u), 0u);
+            first_primitive_[id] = first;
+        }
+        first += static_cast<std::uint32_t>(list.size());
+    });
+}
+
+void EmbreeScene::complete_hit(Hit& hit, unsigned geometry, unsigned primitive, glm::vec3 origin,
+                               glm::vec3 direction, float t) const {
+    hit.found = true;
+    hit.primitive = first_primitive_[geometry] + primitive;
+    hit.distance = t * glm::length(direction);
+    hit.position = origin + t * direction;
+    const auto triangles = static_cast<std::uint32_t>(normals_.size());
+    hit.normal = hit.primitive < triangles
+                     ? normals_[hit.primitive]
+                     : shapes_.visit(hit.primitive - triangles, [&](const auto& shape) {
+                           return shape.normal_at(hit.position);
+                       });
 }
 
 EmbreeScene::~EmbreeScene() {
@@ -82,13 +184,8 @@ Hit EmbreeScene::closest_hit(glm::vec3 origin, glm::vec3 direction) const {
     query.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(scene_, &context, &query);
     Hit hit;
-    if (query.hit.geomID == RTC_INVALID_GEOMETRY_ID)
-        return hit;
-    hit.found = true;
-    hit.triangle = query.hit.primID;
-    hit.distance = query.ray.tfar * glm::length(direction);
-    hit.position = origin + query.ray.tfar * direction;
-    hit.normal = normals_[hit.triangle];
+    if (query.hit.geomID != RTC_INVALID_GEOMETRY_ID)
+        complete_hit(hit, query.hit.geomID, query.hit.primID, origin, direction, query.ray.tfar);
     return hit;
 }
 
@@ -153,12 +250,8 @@ void EmbreeScene::closest_hits(glm::vec3 origin, std::span<const glm::vec3> dire
             hit = Hit{};
             if (query.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID)
                 continue;
-            const glm::vec3 d = directions[begin + i];
-            hit.found = true;
-            hit.triangle = query.hit.primID[i];
-            hit.distance = query.ray.tfar[i] * glm::length(d);
-            hit.position = origin + query.ray.tfar[i] * d;
-            hit.normal = normals_[hit.triangle];
+            complete_hit(hit, query.hit.geomID[i], query.hit.primID[i], origin,
+                         directions[begin + i], query.ray.tfar[i]);
         }
     }
 }

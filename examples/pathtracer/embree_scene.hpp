@@ -1,5 +1,6 @@
-// The Embree 3 adapter: the scene's triangles in an Embree BVH, answering the library's
-// ray-query concepts (restir::RayQuery: occluded; restir::ClosestHitQuery: closest_hit).
+// The Embree 3 adapter: the scene's triangles and light shapes (as user geometry) in an Embree
+// BVH, answering the library's ray-query concepts (restir::RayQuery: occluded;
+// restir::ClosestHitQuery: closest_hit).
 #pragma once
 
 #include "scene.hpp"
@@ -18,9 +19,10 @@ namespace pt {
 /// The nearest surface along a ray. Satisfies restir::Surface through the free functions below.
 struct Hit {
     glm::vec3 position{0.0f};
-    glm::vec3 normal{0.0f, 1.0f, 0.0f}; ///< Unit geometric normal, as the triangle is wound.
+    /// Unit geometric normal: as the triangle is wound, or the shape's `normal_at`.
+    glm::vec3 normal{0.0f, 1.0f, 0.0f};
     float distance = 0.0f;
-    std::uint32_t triangle = 0u;
+    std::uint32_t primitive = 0u; ///< A triangle, or a shape after them (Scene::material_of).
     bool found = false;
 };
 inline glm::vec3 surface_position(const Hit& h) { return h.position; }
@@ -31,7 +33,8 @@ inline bool is_valid_surface(const Hit& h) { return h.found; }
 /// Owns an Embree device and a committed scene. Thread-safe queries; not copyable.
 class EmbreeScene {
 public:
-    /// Builds the BVH of `scene`'s triangles. Throws SceneError when Embree fails.
+    /// Builds the BVH of `scene`'s triangles and shapes. Throws SceneError when Embree fails or
+    /// a shape cannot be rendered (check_shapes).
     explicit EmbreeScene(const Scene& scene);
     ~EmbreeScene();
     EmbreeScene(const EmbreeScene&) = delete;
@@ -67,9 +70,20 @@ public:
                            std::span<std::uint8_t> blocked) const;
 
 private:
+    void attach_triangles(const Scene& scene);
+    void attach_shapes();
+    /// The hit's primitive and normal from Embree's geometry and primitive ids, its position
+    /// at `t` along origin + t * direction.
+    void complete_hit(Hit& hit, unsigned geometry, unsigned primitive, glm::vec3 origin,
+                      glm::vec3 direction, float t) const;
+
     RTCDeviceTy* device_ = nullptr;
     RTCSceneTy* scene_ = nullptr;
     std::vector<glm::vec3> normals_; ///< Per triangle, from its winding.
+    Shapes shapes_;                  ///< The scene's, which Embree's user geometry points into.
+    /// Per Embree geometry id (triangles 0, then each non-empty shape list): its first
+    /// primitive id.
+    std::vector<std::uint32_t> first_primitive_;
 };
 
 } // namespace pt

@@ -9,8 +9,9 @@
 
 namespace pt {
 
-/// The inverse of TriangleEmitters::sample_point (a uniform point by area, so the light
-/// candidates' density there is 1 / area); or, where the ray leaves the scene, the
+/// The inverse of SceneEmitters::sample_point (a uniform point by area on a triangle or a
+/// light shape, so the light candidates' density there is 1 / area; drawn from the receiver,
+/// the library asks SceneEmitters::point_pdf instead); or, where the ray leaves the scene, the
 /// environment's direction (its density per steradian from the map).
 struct EmitterHits {
     const EmbreeScene* rays;
@@ -26,9 +27,9 @@ struct EmitterHits {
                        : restir::LightHit{
                              true, lights->environment_id(),
                              restir::environment_light_point(lights->environment, direction)};
-        const TriangleEmitters* emitters = lights->emitters;
-        const std::uint32_t emitter = emitters->emitter_of_triangle(hit.triangle);
-        if (emitter == TriangleEmitters::none)
+        const SceneEmitters* emitters = lights->emitters;
+        const std::uint32_t emitter = emitters->emitter_of_primitive(hit.primitive);
+        if (emitter == SceneEmitters::none)
             return {};
         restir::LightHit light{true, emitter, {}};
         light.point.position = hit.position;

@@ -58,7 +58,7 @@ glm::vec3 view_direction(const GSurface& s) {
 
 GSurface surface_at(const Scene& scene, const Hit& hit, glm::vec3 direction) {
     GSurface s;
-    const std::uint32_t material = scene.triangle_materials[hit.triangle];
+    const std::uint32_t material = scene.material_of(hit.primitive);
     s.front = glm::dot(hit.normal, direction) < 0.0f;
     s.valid = true;
     s.position = hit.position;

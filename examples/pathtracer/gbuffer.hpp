@@ -114,34 +114,6 @@ public:
     };
     ShadowPackets shadow_packets() const { return {this}; }
 
-    /// Visibility reuse for a block: every pixel's reservoir (`reservoir(i)`) whose sample is
-    /// occluded from its surface gets W = 0, the shadow rays traced as one packet query;
-    /// pixels for which `needs_test(i)` is false (their sample is known to be visible) are
-    /// skipped.
-    template <class ReservoirAt, class NeedsTest>
-    void test_visibility(const PixelBlock& block, ReservoirAt&& reservoir,
-                         NeedsTest&& needs_test) const {
-        std::array<ShadowQuery, pixels_per_block> queries;
-        std::array<std::uint32_t, pixels_per_block> pixel;
-        std::array<bool, pixels_per_block> visible;
-        std::size_t n = 0;
-        blocks_->for_each_pixel_of(block, [&](std::uint32_t, std::uint32_t, std::uint32_t i) {
-            const auto& res = reservoir(i);
-            if (!surfaces_[i].valid || !res.has_sample() || !needs_test(i))
-                return;
-            queries[n] = {&res.sample, &surfaces_[i]};
-            pixel[n++] = i;
-        });
-        trace_shadows(std::span(queries.data(), n), std::span(visible.data(), n));
-        for (std::size_t k = 0; k < n; ++k)
-            restir::apply_visibility(reservoir(pixel[k]), visible[k]);
-    }
-    /// test_visibility for every pixel of the block.
-    template <class ReservoirAt>
-    void test_visibility(const PixelBlock& block, ReservoirAt&& reservoir) const {
-        test_visibility(block, reservoir, [](std::uint32_t) { return true; });
-    }
-
 private:
     void trace_primary(const PixelBlock& block, const Camera& camera, std::uint32_t frame_index);
 

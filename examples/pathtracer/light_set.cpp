@@ -16,8 +16,8 @@ namespace pt {
 
 namespace {
 
-TriangleEmitters checked_emitters(const Scene& scene) {
-    TriangleEmitters emitters(scene);
+SceneEmitters checked_emitters(const Scene& scene) {
+    SceneEmitters emitters(scene);
     if (emitters.light_count() == 0 && !scene.environment)
         throw SceneError("scene '" + scene.name +
                          "' has no emitters and no environment: give some material a positive Ke, "

@@ -17,18 +17,30 @@
 
 namespace pt {
 
-/// Emitters first (ids [0, emitter count)), then the environment (one id, with one), then this
-/// set's VPLs.
-using Unified = restir::UnifiedLightSet<TriangleEmitters>;
+/// Emitters first (ids [0, emitter count): triangles, then light shapes), then the environment
+/// (one id, with one), then this set's VPLs.
+using Unified = restir::UnifiedLightSet<SceneEmitters>;
+
+/// Light `id`'s point at `position` as sampling by area gives it (its normal, radiance and
+/// density there): how a stored point is decoded (restir_di.cpp, --packed-history). Emitters'
+/// points from SceneEmitters::point_at; a VPL is one point.
+inline restir::LightSample light_point_at(const Unified& lights, std::uint32_t id,
+                                          glm::vec3 position) {
+    if (id < lights.emitter_count())
+        return lights.emitters->point_at(id, position);
+    restir::LightSample s = lights.sample_point(id, glm::vec2(0.0f));
+    s.position = position;
+    return s;
+}
 
 /// The emitters and the VPL set of this frame, with power tables over all of them, the
 /// emitters alone and the VPLs alone.
 class LightSet {
 public:
     /// Shoots the first VPL set (with --gi vpl; the environment shoots photons too). Throws
-    /// SceneError for a scene without emitters and without an environment, or with a shining
-    /// emitter whose power is no float. `ray_offset`: how far
-    /// photon rays start off surfaces; `extent`: the scene's size (the VPLs' falloff radius).
+    /// SceneError for a scene without emitters and without an environment, with a shining
+    /// emitter whose power is no float, or with a shape that cannot be rendered. `ray_offset`: how
+    /// far photon rays start off surfaces; `extent`: the scene's size (the VPLs' falloff radius).
     LightSet(const Scene& scene, const EmbreeScene& rays, const RenderSettings& settings,
              tbb::task_arena& arena, float ray_offset, float extent);
     LightSet(const LightSet&) = delete;
@@ -41,7 +53,7 @@ public:
 
     /// All lights: emitters, the environment, VPLs.
     const Unified& lights() const { return lights_; }
-    const TriangleEmitters& emitters() const { return emitters_; }
+    const SceneEmitters& emitters() const { return emitters_; }
     const std::vector<restir::Vpl>& vpls() const { return vpls_; }
     /// All lights by power (candidates).
     const restir::AliasTable& power_table() const { return light_table_; }
@@ -58,8 +70,9 @@ public:
     const restir::AliasTable& vpl_table() const { return vpl_table_; }
     /// The VPLs' distance falloff.
     const restir::Falloff& falloff() const { return falloff_; }
-    /// Every local light's emission bounds (emitters as area lights, VPLs as cosine emitters),
-    /// in local id order (the environment left out): for a light BVH or per-light bounds.
+    /// Every local light's emission bounds (emitters as their shapes bound them, VPLs as cosine
+    /// emitters), in local id order (the environment left out): for a light BVH or per-light
+    /// bounds.
     std::vector<restir::LightBounds> light_bounds() const;
 
     /// Milliseconds the last photon shooting took.
@@ -81,7 +94,7 @@ private:
     tbb::task_arena& arena_;
     const float ray_offset_;
     const restir::Falloff falloff_;
-    const TriangleEmitters emitters_;
+    const SceneEmitters emitters_;
     std::vector<restir::Vpl> vpls_;
     double photon_ms_ = 0.0;
     std::optional<std::uint32_t> photons_per_set_;

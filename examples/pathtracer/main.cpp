@@ -259,6 +259,12 @@ std::string candidates_summary(const pt::RenderSettings& settings) {
     return "; " + std::to_string(settings.candidates) + " candidates " + source;
 }
 
+// The scene's light shapes after its triangle count ("+ 3 light shapes"), nothing without any.
+std::string shapes_summary(const pt::Scene& scene) {
+    const std::uint32_t count = scene.shapes.count();
+    return count == 0u ? std::string() : " + " + std::to_string(count) + " light shapes";
+}
+
 // Loads the scene, checks everything that can be checked before the render, renders, measures
 // and writes the image.
 void run(pt::RenderOptions& options) {
@@ -272,10 +278,11 @@ void run(pt::RenderOptions& options) {
     std::ofstream csv = open_csv(options.csv);
 
     pt::Renderer renderer(scene, settings);
-    std::printf("scene %s: %u triangles, %u emitters, %zu VPLs%s; %ux%u, %u frame(s)%s\n",
-                scene.name.c_str(), scene.triangle_count(), renderer.emitter_count(),
-                renderer.vpl_count(), environment_summary(scene).c_str(), settings.width,
-                settings.height, options.frames, candidates_summary(renderer.settings()).c_str());
+    std::printf("scene %s: %u triangles%s, %u emitters, %zu VPLs%s; %ux%u, %u frame(s)%s\n",
+                scene.name.c_str(), scene.triangle_count(), shapes_summary(scene).c_str(),
+                renderer.emitter_count(), renderer.vpl_count(), environment_summary(scene).c_str(),
+                settings.width, settings.height, options.frames,
+                candidates_summary(renderer.settings()).c_str());
     if (settings.gi == pt::GlobalIllumination::vpl && settings.vpls > 0 &&
         renderer.vpl_count() == 0)
         std::cerr << "restir-render: warning: no photon left a VPL (no surface reflects "

@@ -52,9 +52,17 @@ bool PathTracer::visible(const restir::LightSampleRef& ref, const GSurface& s) c
                                                          ray_offset_}(ref, s);
 }
 
-// One emitter by power with MIS (balance heuristic) against the BSDF's sampling. Kept inline
-// in path_radiance: the compiler fuses multiplies and adds across the call (FMA), so the
-// image's last bits depend on it.
+// The segment restir::LightVisibility tests for a point of an emitter.
+bool PathTracer::visible(const restir::LightSample& light, const GSurface& s) const {
+    const restir::ShadowSegment segment =
+        restir::shadow_segment(s.position, s.normal, light.position, light.normal, ray_offset_);
+    return !rays_.occluded(segment.from, segment.to);
+}
+
+// One emitter by power with MIS (balance heuristic) against the BSDF's sampling: a triangle's
+// point uniform in area, a light shape's uniform in the solid angle it subtends from `s` (the
+// shape's own sampling, SceneEmitters::is_shape). Kept inline in path_radiance: the compiler
+// fuses multiplies and adds across the call (FMA), so the image's last bits depend on it.
 [[gnu::always_inline]] inline glm::vec3 PathTracer::emitter_nee(const GSurface& s,
                                                                 restir::Pcg32& rng) const {
     const restir::DiscreteSample c =
@@ -63,14 +71,17 @@ bool PathTracer::visible(const restir::LightSampleRef& ref, const GSurface& s) c
     const float v = next_float(rng);
     if (!(c.pmf > 0.0f))
         return glm::vec3(0.0f);
-    const restir::LightSampleRef ref{c.index, {u, v}};
-    const restir::LightSample light = lights_.lights().sample_point(ref.light_id, ref.uv);
+    const SceneEmitters& emitters = lights_.emitters();
+    const restir::LightSample light = emitters.is_shape(c.index)
+                                          ? emitters.sample_point(c.index, {u, v}, s.position)
+                                          : emitters.sample_point(c.index, {u, v});
     const glm::vec3 to_light = light.position - s.position;
     const float d2 = glm::dot(to_light, to_light);
     const glm::vec3 w = to_light / std::sqrt(d2);
     const float cos_light = -glm::dot(light.normal, w);
     const float cos_surface = glm::dot(s.normal, w);
-    if (!(cos_light > 0.0f) || !(cos_surface > 0.0f) || !visible(ref, s))
+    if (!(cos_light > 0.0f) || !(cos_surface > 0.0f) || !(light.area_pdf > 0.0f) ||
+        !visible(light, s))
         return glm::vec3(0.0f);
     const float light_pdf = c.pmf * light.area_pdf * d2 / cos_light; // solid angle
     const float bsdf_pdf = bounce_pdf(s, w);
@@ -139,7 +150,7 @@ restir::PathSample PathTracer::path_sample(const GSurface& s, restir::Pcg32& rng
 
 glm::vec3 PathTracer::radiance_from(const GSurface& start, restir::Pcg32& rng, bool direct,
                                     bool bounce_further, std::uint32_t first_depth) const {
-    const TriangleEmitters& emitters = lights_.emitters();
+    const SceneEmitters& emitters = lights_.emitters();
     glm::vec3 radiance(0.0f);
     glm::vec3 throughput(1.0f);
     GSurface s = start;
@@ -161,11 +172,15 @@ glm::vec3 PathTracer::radiance_from(const GSurface& start, restir::Pcg32& rng, b
             break;
         }
         throughput *= bounce.weight; // f cos / pdf
-        const std::uint32_t emitter = emitters.emitter_of_triangle(hit.triangle);
-        if (direct && emitter != TriangleEmitters::none && glm::dot(hit.normal, direction) < 0.0f) {
+        const std::uint32_t emitter = emitters.emitter_of_primitive(hit.primitive);
+        if (direct && emitter != SceneEmitters::none && glm::dot(hit.normal, direction) < 0.0f) {
             const float cos_light = -glm::dot(hit.normal, direction);
-            const float light_pdf = lights_.emitter_table().pmf(emitter) / emitters.area(emitter) *
-                                    hit.distance * hit.distance / cos_light;
+            // emitter_nee's density of the hit point per unit area, then per steradian.
+            const float pmf = lights_.emitter_table().pmf(emitter);
+            const float area_pdf = emitters.is_shape(emitter)
+                                       ? pmf * emitters.point_pdf(emitter, hit.position, s.position)
+                                       : pmf / emitters.area(emitter);
+            const float light_pdf = area_pdf * hit.distance * hit.distance / cos_light;
             radiance +=
                 throughput * emitters.radiance(emitter) * (bounce.pdf / (bounce.pdf + light_pdf));
         }

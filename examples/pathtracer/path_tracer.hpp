@@ -61,6 +61,7 @@ private:
     /// Light of a point `light` (unshadowed) reflected at `s` towards its viewer.
     glm::vec3 reflected(const GSurface& s, const restir::LightSample& light) const;
     bool visible(const restir::LightSampleRef& ref, const GSurface& s) const;
+    bool visible(const restir::LightSample& light, const GSurface& s) const;
 
     const Scene& scene_;
     const EmbreeScene& rays_;

@@ -70,7 +70,8 @@ void add_scene_options(CLI::App& app, RenderOptions& options) {
     RenderSettings& settings = options.settings;
     app.add_option("--scene", options.scene,
                    "cornell (built in, diffuse), cornell-glossy (the same box with a polished "
-                   "floor, a metal and a rough block), many-lights (procedural, see --lights), "
+                   "floor, a metal and a rough block), cornell-spheres (the box lit by three "
+                   "emissive spheres), many-lights (procedural, see --lights), "
                    "sun-sky (an open courtyard under a generated sun and sky, --env replaces "
                    "it) or a Wavefront FILE.obj");
     app.add_option("--materials", options.materials,
@@ -284,7 +285,8 @@ void add_light_sampling_options(CLI::App& app, RenderSettings& settings) {
         ->check(finite_number & CLI::Range(0.0f, 1e30f));
     app.add_option("--source", settings.source,
                    "Candidate distribution of ris/restir: auto (default: bvh for scenes of 64 "
-                   "or more emitter triangles, else power; docs/performance.md), power or "
+                   "or more emitters or with sphere lights drawn by solid angle, else power; "
+                   "docs/performance.md), power or "
                    "uniform (from light tiles), bvh (by importance at the pixel's surface, a "
                    "light BVH drawn per pixel: far better candidates, each costing more; lower "
                    "--candidates) or grid (by "
@@ -326,12 +328,14 @@ void add_glossy_options(CLI::App& app, RenderSettings& settings) {
 // How candidates' points on emitters are drawn.
 void add_light_point_options(CLI::App& app, RenderSettings& settings) {
     app.add_option("--light-points", settings.light_points,
-                   "Points on emitters of ris/restir candidates: area (uniform in area) or "
+                   "Points on emitters of ris/restir candidates: area (uniform in area), "
                    "solid-angle (uniform in the solid angle seen from the pixel: no fireflies "
-                   "next to lights; light tiles draw the chosen candidate's point again)")
-        ->transform(names<LightPoints>(
-            {{"area", LightPoints::area}, {"solid-angle", LightPoints::solid_angle}}))
-        ->default_str("area");
+                   "next to lights; light tiles draw the chosen candidate's point on a triangle "
+                   "again) or auto (default: solid-angle in scenes with sphere lights, else area)")
+        ->transform(names<LightPoints>({{"area", LightPoints::area},
+                                        {"solid-angle", LightPoints::solid_angle},
+                                        {"auto", LightPoints::automatic}}))
+        ->default_str("auto");
 }
 
 // Indirect light: the VPLs' photons and the path tracer's depth. The photons' seed is
@@ -396,8 +400,9 @@ void check_consistent(const RenderOptions& options) {
 } // namespace
 
 Scene load_scene(const RenderOptions& options) {
-    Scene scene = options.scene == "cornell"          ? make_cornell_box()
-                  : options.scene == "cornell-glossy" ? make_glossy_cornell_box()
+    Scene scene = options.scene == "cornell"           ? make_cornell_box()
+                  : options.scene == "cornell-glossy"  ? make_glossy_cornell_box()
+                  : options.scene == "cornell-spheres" ? make_cornell_spheres()
                   : options.scene == "many-lights"
                       ? make_many_lights(options.lights, options.scene_seed)
                   : options.scene == "sun-sky" ? make_sun_sky_scene(nullptr)

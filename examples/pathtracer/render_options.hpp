@@ -52,9 +52,9 @@ struct UsageError : std::runtime_error {
 std::optional<RenderOptions> parse_render_options(int argc, const char* const* argv,
                                                   std::string& help);
 
-/// The scene that `options` name (cornell, cornell-glossy, many-lights, sun-sky or an OBJ
-/// file), its materials made Lambertian with --materials diffuse, under the --env map, or
-/// under the generated sun and sky for sun-sky without one (--env-scale and --env-rotate
+/// The scene that `options` name (cornell, cornell-glossy, cornell-spheres, many-lights,
+/// sun-sky or an OBJ file), its materials made Lambertian with --materials diffuse, under the --env
+/// map, or under the generated sun and sky for sun-sky without one (--env-scale and --env-rotate
 /// apply to either). Throws SceneError, or ImageError for a map that cannot be used.
 Scene load_scene(const RenderOptions& options);
 

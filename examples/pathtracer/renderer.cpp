@@ -24,6 +24,18 @@
 
 namespace pt {
 
+namespace {
+
+// `settings` resolved for the emitters of `scene` (SceneEmitters: throws SceneError for a
+// shape that cannot be rendered).
+RenderSettings resolved_for(const RenderSettings& settings, const Scene& scene) {
+    const SceneEmitters emitters(scene);
+    return resolved_candidates(resolved_light_points(settings, emitters.shape_count()),
+                               emitters.light_count());
+}
+
+} // namespace
+
 // The renderer: its parts (the scene's rays, the light set, the pixel blocks, the G-buffer,
 // the candidate source, the path tracer, ReSTIR DI and the accumulation) and the frame loop.
 struct Renderer::Impl {
@@ -45,9 +57,9 @@ struct Renderer::Impl {
 
     // Builds the BVH, the emitters, the first VPL set and the frame buffers.
     Impl(const Scene& s, const RenderSettings& rs)
-        : scene(s), settings(resolved_candidates(rs, TriangleEmitters(s).light_count())),
-          rays(scene), arena(settings.threads == 0 ? tbb::task_arena::automatic
-                                                   : static_cast<int>(settings.threads)),
+        : scene(s), settings(resolved_for(rs, s)), rays(scene),
+          arena(settings.threads == 0 ? tbb::task_arena::automatic
+                                      : static_cast<int>(settings.threads)),
           extent(scene_size(scene)), ray_offset(1e-4f * extent),
           light_set(scene, rays, settings, arena, ray_offset, extent),
           blocks(settings.width, settings.height, arena),
@@ -184,9 +196,15 @@ struct Renderer::Impl {
                             ? candidates->initial_reservoir(x, y, index, s, rng)
                             : uniform_reservoir(s, rng);
         });
-        if (light_sample)
-            gbuffer.test_visibility(
-                block, [&](std::uint32_t i) -> Reservoir& { return picked[local(i)]; });
+        if (light_sample) // visibility: each block's shadow rays as packets
+            restir::apply_visibility_batch<restir::LightPointSample, GSurface>(
+                gbuffer.shadow_packets(), [&](const auto& ask) {
+                    blocks.for_each_pixel_of(block,
+                                             [&](std::uint32_t, std::uint32_t, std::uint32_t i) {
+                                                 if (picked[local(i)].has_sample())
+                                                     ask(picked[local(i)], gbuffer.surfaces()[i]);
+                                             });
+                });
         blocks.for_each_pixel_of(block, [&](std::uint32_t, std::uint32_t, std::uint32_t i) {
             const GSurface& s = gbuffer.surfaces()[i];
             if (s.valid)
@@ -284,6 +302,17 @@ RenderSettings resolved_candidates(RenderSettings settings, std::uint32_t emitte
     if (settings.candidates == 0u)
         settings.candidates = settings.source == CandidateSource::bvh ? default_bvh_candidates
                                                                       : default_tile_candidates;
+    return settings;
+}
+
+RenderSettings resolved_light_points(RenderSettings settings, std::uint32_t shape_emitters) {
+    if (settings.light_points == LightPoints::automatic)
+        settings.light_points = shape_emitters > 0u && !settings.packed_history
+                                    ? LightPoints::solid_angle
+                                    : LightPoints::area;
+    if (settings.source == CandidateSource::automatic && shape_emitters > 0u &&
+        settings.light_points == LightPoints::solid_angle)
+        settings.source = CandidateSource::bvh;
     return settings;
 }
 

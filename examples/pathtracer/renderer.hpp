@@ -34,9 +34,11 @@ enum class GlobalIllumination {
 /// `automatic` is resolved per scene when the renderer is built (`resolved_candidates`).
 enum class CandidateSource { power, uniform, bvh, grid, automatic };
 /// How the point on an emitter of a RIS candidate is drawn: uniformly in its area, or uniformly
-/// in the solid angle it subtends from the pixel's surface (restir::sample_triangle_from; the
-/// light tiles keep area points and draw the chosen candidate's point again).
-enum class LightPoints { area, solid_angle };
+/// in the solid angle it subtends from the pixel's surface (restir::sample_triangle_from, a
+/// light shape's own sampling; the light tiles keep area points and draw the chosen candidate's
+/// point of a triangle again). `automatic` is resolved per scene when the renderer is built
+/// (`resolved_light_points`).
+enum class LightPoints { area, solid_angle, automatic };
 /// How RIS candidates find the environment: as one light of the light set, its directions drawn
 /// by the map's importance sampling (restir::EnvironmentMapView::sample), or only through
 /// BSDF-sampled candidates (cosine-weighted at diffuse pixels), which is what importance
@@ -54,7 +56,7 @@ struct RenderSettings {
     Method method = Method::restir;
     GlobalIllumination gi = GlobalIllumination::vpl;
     CandidateSource source = CandidateSource::automatic;
-    LightPoints light_points = LightPoints::area;
+    LightPoints light_points = LightPoints::automatic;
     std::uint64_t seed = 0;
     CameraSetup camera{};
     CameraMotion motion = CameraMotion::none;
@@ -164,7 +166,7 @@ restir::DiFrameParams frame_params(const RenderSettings& settings);
 /// bytes per pixel at 2048 x 2048, 79 per VPL at 1M VPLs, 124 more per VPL with the BVH).
 std::uint64_t estimated_memory_bytes(const RenderSettings& settings, bool with_reference);
 
-/// Emissive triangles from which `CandidateSource::automatic` takes candidates from the light
+/// Emitters from which `CandidateSource::automatic` takes candidates from the light
 /// BVH: with fewer, from light tiles by power (docs/performance.md, "Equal time").
 inline constexpr std::uint32_t bvh_source_emitters = 64;
 /// Candidates per pixel when `candidates` is 0: from the light BVH, where each costs a descent
@@ -172,12 +174,23 @@ inline constexpr std::uint32_t bvh_source_emitters = 64;
 inline constexpr std::uint32_t default_bvh_candidates = 4;
 inline constexpr std::uint32_t default_tile_candidates = 32;
 
-/// `settings` with `source` and `candidates` resolved for a scene of `emitter_count` emissive
-/// triangles: `automatic` becomes `bvh` from `bvh_source_emitters` emitters on (many emitters,
-/// some close to the surfaces they light: power-proportional candidates rarely find the close
-/// ones), `power` below (a few emitters and the VPLs, whose falloff is clamped); candidates 0
-/// becomes the source's default.
+/// `settings` with `source` and `candidates` resolved for a scene of `emitter_count` emitters:
+/// `automatic` becomes `bvh` from `bvh_source_emitters` emitters on (many emitters, some close to
+/// the surfaces they light: power-proportional candidates rarely find the close ones), `power`
+/// below (a few emitters and the VPLs, whose falloff is clamped); candidates 0 becomes the source's
+/// default.
 RenderSettings resolved_candidates(RenderSettings settings, std::uint32_t emitter_count);
+
+/// `settings` with `light_points` resolved for a scene with `shape_emitters` emissive light
+/// shapes, before `resolved_candidates`: `automatic` becomes `solid_angle` for a scene with
+/// some (a sphere's points uniform in area put half the candidates on its far side), unless
+/// `packed_history` (which decodes points as area samples); `area` otherwise (triangles alone:
+/// Arvo's map costs more than it saves but next to lights, docs/noise-and-bias.md). With light
+/// shapes drawn from the pixel, an `automatic` source becomes `bvh`: light tiles keep a shape's
+/// area points (SceneEmitters::redraw_pays_off), the BVH's candidates draw theirs from the
+/// pixel (RMSE against the reference 2.2x lower at about equal time in cornell-spheres,
+/// docs/renderer.md).
+RenderSettings resolved_light_points(RenderSettings settings, std::uint32_t shape_emitters);
 
 /// Renders frames of one scene with one setting. Throws SceneError for a scene without
 /// emitters.
@@ -210,9 +223,11 @@ public:
     /// 1 for each pixel whose surface in the last frame is glossy (a specular lobe), else 0:
     /// the pixels of the CSV's glossy columns.
     std::vector<std::uint8_t> glossy_pixels() const;
-    /// Emissive triangles of the scene (degenerate ones emit nothing and are left out).
+    /// Emitters of the scene: emissive triangles (degenerate ones emit nothing and are left out)
+    /// and emissive light shapes.
     std::uint32_t emitter_count() const;
-    /// The settings the renderer runs with: those it was given, `resolved_candidates`.
+    /// The settings the renderer runs with: those it was given, `resolved_candidates` and
+    /// `resolved_light_points`.
     const RenderSettings& settings() const;
 
 private:

@@ -48,9 +48,10 @@ struct RestirDi::Stages {
     }
 
     // A stored light point back as the sample it was made from: every light of the renderer
-    // (flat emitter triangles of one radiance, sampled by area; VPLs) has one normal, radiance
-    // and pdf over its whole surface, so its id and the position determine the sample; the
-    // environment's "position" is its direction, whose radiance and pdf the map gives.
+    // (emitter triangles and light shapes of one radiance, sampled by area; VPLs) has one
+    // radiance and pdf over its whole surface and a normal its position gives
+    // (`light_point_at`), so its id and the position determine the sample; the environment's
+    // "position" is its direction, whose radiance and pdf the map gives.
     struct LightPointDecoder {
         const Stages* im = nullptr;
         restir::LightPointSample operator()(std::uint32_t id, glm::vec3 position) const {
@@ -60,10 +61,8 @@ struct RestirDi::Stages {
                 return restir::make_light_point_sample(
                     id, restir::environment_light_point(im->lights.environment, position),
                     im->falloff);
-            restir::LightPointSample s = restir::make_light_point_sample(
-                id, im->lights.sample_point(id, glm::vec2(0.0f)), im->falloff);
-            s.position = position;
-            return s;
+            return restir::make_light_point_sample(id, light_point_at(im->lights, id, position),
+                                                   im->falloff);
         }
     };
     // The recipe with last frame's reservoirs viewed, or stored packed (--packed-history).

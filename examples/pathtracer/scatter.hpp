@@ -1,5 +1,5 @@
 // The photon shooter's scatter hook for the renderer's materials: Lambertian reflection of
-// the hit triangle's base colour (Material::albedo), sampled by cosine about the normal facing
+// the hit primitive's base colour (Material::albedo), sampled by cosine about the normal facing
 // the photon. Glossy materials reflect photons diffusely too, a metal in its F0 colour, and
 // their VPLs are diffuse emitters (docs/renderer.md). Emitters reflect too but hold no VPL
 // (restir::ScatterFunction).
@@ -19,7 +19,7 @@ struct LambertianScatter {
     const Scene* scene = nullptr;
 
     restir::Scattering operator()(const Hit& hit, glm::vec3 incoming, restir::Pcg32& rng) const {
-        const Material& m = scene->materials[scene->triangle_materials[hit.triangle]];
+        const Material& m = scene->materials[scene->material_of(hit.primitive)];
         const glm::vec3 facing = glm::dot(hit.normal, incoming) < 0.0f ? hit.normal : -hit.normal;
         const float u0 = next_float(rng);
         const float u1 = next_float(rng);

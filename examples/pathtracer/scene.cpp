@@ -1,5 +1,6 @@
 // What every scene shares, however it was made: its quads as triangles (scene_quad.hpp), its
-// bounds and size, its triangles' normals, a camera framing it, and its materials made diffuse.
+// bounds and size, its triangles' normals, the check of its shapes, a camera framing it, and its
+// materials made diffuse.
 #include "scene.hpp"
 #include "scene_quad.hpp"
 
@@ -11,6 +12,7 @@
 #include <cmath>
 #include <cstdint>
 #include <numbers>
+#include <string>
 #include <utility>
 
 namespace pt {
@@ -40,7 +42,41 @@ SceneBounds bounds_of(const Scene& scene) {
         bounds.lower = glm::min(bounds.lower, position);
         bounds.upper = glm::max(bounds.upper, position);
     }
+    scene.shapes.for_each_list([&](const auto& list) {
+        for (const auto& shape : list) {
+            bounds.lower = glm::min(bounds.lower, shape.lower());
+            bounds.upper = glm::max(bounds.upper, shape.upper());
+        }
+    });
     return bounds;
+}
+
+namespace {
+
+// Whether a shape's box is finite and within max_coordinate of the origin.
+bool box_within_limits(glm::vec3 lower, glm::vec3 upper) {
+    for (int k = 0; k < 3; ++k)
+        if (!(std::abs(lower[k]) <= max_coordinate && std::abs(upper[k]) <= max_coordinate))
+            return false;
+    return true;
+}
+
+} // namespace
+
+void check_shapes(const Scene& scene) {
+    scene.shapes.for_each_list([&](const auto& list) {
+        for (std::size_t i = 0; i < list.size(); ++i) {
+            const auto& shape = list[i];
+            const char* reason = shape.invalid_reason();
+            if (reason == nullptr && !box_within_limits(shape.lower(), shape.upper()))
+                reason = "its box is not finite or reaches beyond 1e15 of the origin";
+            if (reason == nullptr && shape.material >= scene.materials.size())
+                reason = "its material index is out of range";
+            if (reason != nullptr)
+                throw SceneError(std::string(shape.kind) + " " + std::to_string(i) + " of scene '" +
+                                 scene.name + "' cannot be rendered: " + reason);
+        }
+    });
 }
 
 glm::vec3 Triangle::normal(glm::vec3 degenerate) const {
@@ -51,14 +87,16 @@ glm::vec3 Triangle::normal(glm::vec3 degenerate) const {
 
 float scene_size(const Scene& scene) {
     const auto [lower, upper] = bounds_of(scene);
-    return scene.positions.empty() ? 1e-6f : std::max(glm::length(upper - lower), 1e-6f);
+    return scene.positions.empty() && scene.shapes.count() == 0u
+               ? 1e-6f
+               : std::max(glm::length(upper - lower), 1e-6f);
 }
 
 CameraSetup frame_bounds(const Scene& scene, float aspect) {
     CameraSetup camera;
     camera.up = {0.0f, 1.0f, 0.0f};
     camera.fov_degrees = 40.0f;
-    if (scene.positions.empty()) {
+    if (scene.positions.empty() && scene.shapes.count() == 0u) {
         return camera;
     }
     const auto [lower, upper] = bounds_of(scene);

@@ -1,7 +1,10 @@
-// Scene description of the example renderer: triangles with materials, some emissive, an
-// optional environment light and an optional suggested camera. Built in (Cornell box,
-// procedural many lights, sun and sky) or loaded from Wavefront OBJ/MTL.
+// Scene description of the example renderer: triangles and light shapes (spheres) with
+// materials, some emissive, an optional environment light and an optional suggested camera.
+// Built in (Cornell box, the box lit by spheres, procedural many lights, sun and sky) or loaded
+// from Wavefront OBJ/MTL.
 #pragma once
+
+#include "shapes.hpp"
 
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
@@ -82,13 +85,17 @@ struct CameraSetup {
     float fov_degrees = 40.0f;
 };
 
-/// Indexed triangles, one material per triangle. Emissive triangles are one-sided: they emit
-/// on the side their geometric normal points to, normal = normalize(cross(b - a, c - a)).
+/// Indexed triangles, one material per triangle, and light shapes (shapes.hpp), one material
+/// each. Primitive ids number the triangles first, then the shapes. Emitters are one-sided:
+/// a triangle emits on the side its geometric normal points to, normal =
+/// normalize(cross(b - a, c - a)); a shape on the side its `normal_at` faces (a sphere's
+/// outside).
 struct Scene {
     std::string name;
     std::vector<glm::vec3> positions;
     std::vector<std::uint32_t> indices; ///< Three per triangle.
     std::vector<std::uint32_t> triangle_materials;
+    Shapes shapes; ///< Primitives triangle_count() and on.
     std::vector<Material> materials;
     std::optional<CameraSetup> camera; ///< Suggested camera; framed from the bounds otherwise.
     /// Radiance arriving from infinitely far away where rays leave the scene (--env, or the
@@ -98,7 +105,17 @@ struct Scene {
     std::uint32_t triangle_count() const {
         return static_cast<std::uint32_t>(triangle_materials.size());
     }
+    /// The material of primitive `primitive` (a triangle, or a shape after them).
+    std::uint32_t material_of(std::uint32_t primitive) const {
+        return primitive < triangle_count() ? triangle_materials[primitive]
+                                            : shapes.material(primitive - triangle_count());
+    }
 };
+
+/// Throws SceneError naming the first shape of `scene` that cannot be rendered: its own
+/// `invalid_reason`, a box that is not finite or reaches beyond max_coordinate, or a material
+/// index out of range.
+void check_shapes(const Scene& scene);
 
 /// Every material of `scene` made Lambertian (Material::diffuse).
 void make_materials_diffuse(Scene& scene);
@@ -138,6 +155,11 @@ Scene make_cornell_box();
 /// and the light as in make_cornell_box.
 Scene make_glossy_cornell_box();
 
+/// The Cornell box without its ceiling light, lit by three small emissive spheres of
+/// different colours ("cornell-spheres"): one above the short block, one in front of the tall
+/// block, one under the ceiling.
+Scene make_cornell_spheres();
+
 /// A floor lit by `light_count` small emissive quads (two triangles each) floating above it,
 /// with colours and intensities drawn from `seed`; for light-count scaling measurements.
 /// Throws SceneError for a count of 0 or above 10 million.
@@ -168,7 +190,8 @@ struct SceneBounds {
     glm::vec3 upper{std::numeric_limits<float>::lowest()};
 };
 
-/// The scene's bounding box (empty when it has no vertices).
+/// The scene's bounding box, its shapes' boxes included (empty when it has no vertices and no
+/// shapes).
 SceneBounds bounds_of(const Scene& scene);
 
 /// Length of the diagonal of the scene's bounding box (at least 1e-6): the scale of ray

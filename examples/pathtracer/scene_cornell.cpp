@@ -1,6 +1,7 @@
 // The built-in Cornell box (examples/common/cornell_box.hpp, shared with the CUDA benchmark) as
 // the renderer's scenes: its room, its two blocks, its materials and its camera; diffuse
-// ("cornell") or with a glossy floor, a metal block and a rough block ("cornell-glossy").
+// ("cornell"), with a glossy floor, a metal block and a rough block ("cornell-glossy"), or lit
+// by three emissive spheres instead of its ceiling light ("cornell-spheres").
 #include "scene.hpp"
 #include "scene_quad.hpp"
 
@@ -23,10 +24,14 @@ Quad to_quad(const cornell::Quad& q) {
 }
 
 // The floor, the light, the ceiling and the walls (cornell::Box::room, in its order), each
-// facing the room's interior; the light faces down. The floor takes `floor_material`.
-void add_cornell_room(Scene& scene, const cornell::Box& box, std::uint32_t floor_material) {
+// facing the room's interior; the light faces down. The floor takes `floor_material`; without
+// `with_light` the light's quad is left out.
+void add_cornell_room(Scene& scene, const cornell::Box& box, std::uint32_t floor_material,
+                      bool with_light = true) {
     const glm::vec3 interior = to_vec3(box.interior);
     for (std::uint32_t i = 0; i < 6u; ++i) {
+        if (i == cornell::light_quad && !with_light)
+            continue;
         const Quad quad = to_quad(box.room[i]);
         const glm::vec3 towards =
             i == cornell::light_quad ? to_vec3(box.light_facing) : interior - centroid(quad);
@@ -100,6 +105,38 @@ Scene make_glossy_cornell_box() {
     add_cornell_room(scene, box, add_material(scene, floor));
     add_block(scene, box.short_block, add_material(scene, satin));
     add_block(scene, box.tall_block, add_material(scene, gold));
+    return scene;
+}
+
+Scene make_cornell_spheres() {
+    constexpr cornell::Box box = cornell::box();
+    Scene scene = cornell_materials_and_camera(box, "cornell-spheres");
+    add_cornell_room(scene, box, cornell::white, false);
+    add_block(scene, box.short_block, cornell::white);
+    add_block(scene, box.tall_block, cornell::white);
+    // Their flux, pi L 4 pi r^2 summed over the channels, 1.2 to 1.8 x 10^6 each: together
+    // about three times the ceiling light's (pi L A).
+    struct Lamp {
+        const char* name;
+        glm::vec3 centre;
+        float radius;
+        glm::vec3 emission;
+    };
+    const Lamp lamps[] = {
+        {"warm-sphere",
+         {185.0f, 215.0f, 170.0f},
+         45.0f,
+         {8.0f, 5.0f, 2.0f}}, // over the short block
+        {"cool-sphere",
+         {420.0f, 90.0f, 140.0f},
+         35.0f,
+         {3.0f, 7.0f, 16.0f}}, // before the tall block
+        {"white-sphere", {278.0f, 440.0f, 280.0f}, 60.0f, {4.5f, 4.2f, 3.6f}}}; // under the ceiling
+    for (const Lamp& lamp : lamps) {
+        const std::uint32_t material = add_material(
+            scene, {.name = lamp.name, .albedo = glm::vec3(0.5f), .emission = lamp.emission});
+        scene.shapes.add(Sphere{lamp.centre, lamp.radius, material});
+    }
     return scene;
 }
 

@@ -204,28 +204,42 @@ struct TileReuse {
     }
 };
 
+} // namespace detail
+
+/// Visibility reuse for a batch of reservoirs, their shadow rays traced by one
+/// `tracer.trace` call (a `BatchVisibility`): `for_each(ask)` calls `ask(reservoir, surface)`
+/// for each reservoir to test (at most `max_tile_pixels`, each holding a sample; both stay
+/// valid until this returns), and each gets W = 0 where its sample is occluded from its surface.
+template <class Sample, class S, class Tracer, class ForEach>
+requires BatchVisibility<Tracer, Sample, S>
+void apply_visibility_batch(const Tracer& tracer, ForEach&& for_each) {
+    detail::TileQueries<Sample, S> queries;
+    Reservoir<Sample>* asked[max_tile_pixels];
+    for_each([&](Reservoir<Sample>& r, const S& surface) {
+        RESTIR_ASSERT(queries.count < max_tile_pixels && r.has_sample());
+        asked[queries.count] = &r;
+        queries.add(r.sample, surface);
+    });
+    queries.trace(tracer);
+    for (std::uint32_t q = 0; q < queries.count; ++q)
+        apply_visibility(*asked[q], queries.visible[q]);
+}
+
+namespace detail {
+
 /// Tests the reservoirs of `output` in `tile` for which `needs(pixel, reservoir)` holds, as
 /// one batch: W = 0 where occluded.
 template <class Sample, class S, class Surfaces, class Tracer, class Needs>
 void test_tile(const PixelTile& tile, ImageView<Reservoir<Sample>> output, const Surfaces& surfaces,
                const Tracer& tracer, const Needs& needs) {
-    TileQueries<Sample, S> queries;
-    PixelCoord asked[max_tile_pixels];
-    tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t) {
-        const Reservoir<Sample>& r = output[pixel];
-        if (needs(pixel, r)) {
-            asked[queries.count] = pixel;
-            queries.add(r.sample, surfaces[pixel]);
-        }
+    apply_visibility_batch<Sample, S>(tracer, [&](const auto& ask) {
+        tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t) {
+            Reservoir<Sample>& r = output[pixel];
+            if (needs(pixel, r))
+                ask(r, surfaces[pixel]);
+        });
     });
-    queries.trace(tracer);
-    for (std::uint32_t q = 0; q < queries.count; ++q)
-        apply_visibility(output[asked[q]], queries.visible[q]);
 }
-
-} // namespace detail
-
-namespace detail {
 
 /// A `BatchVisibility` asked one question at a time: the `VisibilityFunction` of a stage that
 /// runs per pixel inside a tile.
