@@ -210,8 +210,7 @@ private:
 };
 
 // Streaming RIS, four draws at a time while four or more remain: their descents advance side by
-// side (light/light_bvh_view.hpp), which made a frame with 4 candidates at 1280 x 720 with 100k
-// lights about a third faster (docs/performance.md).
+// side (light/light_bvh_view.hpp), so that their memory waits overlap.
 Reservoir BvhCandidates::bvh_reservoir(const GSurface& s, restir::Pcg32& rng) const {
     constexpr std::uint32_t batch = 4;
     const restir::LightBvhView bvh = light_bvh_ ? light_bvh_->view() : restir::LightBvhView{};

@@ -359,6 +359,15 @@ struct alignas(64) LightBvhGroup {
     }
 
 private:
+    /// The codes of every lane widened to floats, exactly, for host code's `bounds`: the box's
+    /// corner codes in `low` and `high`, the axis's in `u` and `v`, the cone's and the
+    /// emission's in `cone_code` and `emission_code`, and the power decoded in `power_value`
+    /// (`bfloat16_value`). Inlined by force, as `bounds`.
+    RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE void
+    widen_codes(float (&low)[3][lanes], float (&high)[3][lanes], float (&u)[lanes],
+                float (&v)[lanes], float (&cone_code)[lanes], float (&emission_code)[lanes],
+                float (&power_value)[lanes]) const;
+
     // The centre and half diagonal of lane `lane`'s box, from the codes: (lower + upper) / 2
     // and (upper - lower) in whole steps, which is fewer operations than from the corners.
     RESTIR_HOST_DEVICE void decode(std::uint32_t lane, const LightBvhGrid& grid, glm::vec3& centre,
@@ -404,42 +413,7 @@ RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE void LightBvhGroup::bounds(const ShadingP
     const float near = near_length;
     float low[3][lanes], high[3][lanes], u[lanes], v[lanes], cone_code[lanes], emission_code[lanes],
         power_value[lanes];
-#if RESTIR_STD_SIMD
-    // GCC widens the bytes of a plain loop a few lanes at a time through the stack (the draw
-    // took 30 % longer, docs/performance.md); as eight-lane vectors they widen in a register.
-    {
-        namespace stdx = std::experimental;
-        using Floats = stdx::fixed_size_simd<float, lanes>;
-        const auto widen = [](const std::uint8_t(&codes)[lanes], float(&to)[lanes]) {
-            Floats(codes, stdx::element_aligned).copy_to(to, stdx::element_aligned);
-        };
-        for (int a = 0; a < 3; ++a) {
-            widen(lower[a], low[a]);
-            widen(upper[a], high[a]);
-        }
-        widen(axis_u, u);
-        widen(axis_v, v);
-        widen(cone, cone_code);
-        widen(emission, emission_code);
-        // bfloat16_value: the code is the high half of the float's bits.
-        std::uint32_t power_bits[lanes];
-        (stdx::fixed_size_simd<std::uint32_t, lanes>(power, stdx::element_aligned) << 16u)
-            .copy_to(power_bits, stdx::element_aligned);
-        std::memcpy(power_value, power_bits, sizeof(power_bits));
-    }
-#else
-    for (std::uint32_t c = 0u; c < lanes; ++c) {
-        for (int a = 0; a < 3; ++a) {
-            low[a][c] = static_cast<float>(lower[a][c]);
-            high[a][c] = static_cast<float>(upper[a][c]);
-        }
-        u[c] = static_cast<float>(axis_u[c]);
-        v[c] = static_cast<float>(axis_v[c]);
-        cone_code[c] = static_cast<float>(cone[c]);
-        emission_code[c] = static_cast<float>(emission[c]);
-        power_value[c] = detail::bfloat16_value(power[c]);
-    }
-#endif
+    widen_codes(low, high, u, v, cone_code, emission_code, power_value);
     RESTIR_VECTORIZE
     for (std::uint32_t c = 0u; c < lanes; ++c) {
         // decode(): (lower + upper) / 2 and upper - lower in whole steps.
@@ -455,6 +429,46 @@ RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE void LightBvhGroup::bounds(const ShadingP
             centre, radius, axis.direction, axis.length, axis.inverse_length,
             detail::cone_cos_of(cone_code[c]), detail::cone_sin_of(cone_code[c]),
             detail::emission_cos_of(emission_code[c]), power_value[c], p, near);
+    }
+#endif
+}
+
+RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE void
+LightBvhGroup::widen_codes(float (&low)[3][lanes], float (&high)[3][lanes], float (&u)[lanes],
+                           float (&v)[lanes], float (&cone_code)[lanes],
+                           float (&emission_code)[lanes], float (&power_value)[lanes]) const {
+#if RESTIR_STD_SIMD
+    // GCC widens the bytes of a plain loop a few lanes at a time through the stack; as
+    // eight-lane vectors they widen in a register.
+    namespace stdx = std::experimental;
+    using Floats = stdx::fixed_size_simd<float, lanes>;
+    const auto widen = [](const std::uint8_t(&codes)[lanes], float(&to)[lanes]) {
+        Floats(codes, stdx::element_aligned).copy_to(to, stdx::element_aligned);
+    };
+    for (int a = 0; a < 3; ++a) {
+        widen(lower[a], low[a]);
+        widen(upper[a], high[a]);
+    }
+    widen(axis_u, u);
+    widen(axis_v, v);
+    widen(cone, cone_code);
+    widen(emission, emission_code);
+    // bfloat16_value: the code is the high half of the float's bits.
+    std::uint32_t power_bits[lanes];
+    (stdx::fixed_size_simd<std::uint32_t, lanes>(power, stdx::element_aligned) << 16u)
+        .copy_to(power_bits, stdx::element_aligned);
+    std::memcpy(power_value, power_bits, sizeof(power_bits));
+#else
+    for (std::uint32_t c = 0u; c < lanes; ++c) {
+        for (int a = 0; a < 3; ++a) {
+            low[a][c] = static_cast<float>(lower[a][c]);
+            high[a][c] = static_cast<float>(upper[a][c]);
+        }
+        u[c] = static_cast<float>(axis_u[c]);
+        v[c] = static_cast<float>(axis_v[c]);
+        cone_code[c] = static_cast<float>(cone[c]);
+        emission_code[c] = static_cast<float>(emission[c]);
+        power_value[c] = detail::bfloat16_value(power[c]);
     }
 #endif
 }

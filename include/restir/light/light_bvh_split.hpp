@@ -73,48 +73,10 @@ struct LightBvhSplits : LightBvhItems {
             above = part_of(items, middle, whole.end);
             return;
         }
-        const int axis = choice.axis;
-        const auto bucket_at = [&](std::size_t i) {
-            return bucket_of(items[i].centre(axis), choice.origin, choice.scale, buckets);
-        };
-        // Lomuto's partition without a branch (a split is random to a branch predictor):
-        // [middle, i) stays above, so swapping light i in is right whichever side it is on.
-        std::size_t middle = whole.begin;
-        for (std::size_t i = whole.begin; i < whole.end; ++i) {
-            const bool goes_below = bucket_at(i) <= choice.bucket;
-            std::swap(items[i], items[middle]);
-            middle += goes_below ? 1u : 0u;
-        }
-        below = {whole.begin, middle, choice.below};
-        above = {middle, whole.end, choice.above};
-        const std::size_t wanted =
-            whole.begin + nearest_count(middle - whole.begin, whole.size(), residue_a, residue_b);
-        // Lights of the buckets at the boundary cross it. A side that gains lights takes their
-        // bounds; one that loses them keeps bounds that still hold it, made exact again below
-        // `exact_below` lights (a large side hardly shrinks).
-        constexpr std::size_t exact_below = 64u;
-        while (below.end < wanted) {
-            std::size_t crossing = below.end;
-            while (crossing + 1u < whole.end && bucket_at(crossing) != choice.edges[1])
-                ++crossing;
-            std::swap(items[below.end], items[crossing]);
-            below.bounds.add(items[below.end]);
-            ++below.end;
-            above.begin = below.end;
-            if (below.end == wanted && above.size() < exact_below)
-                above = part_of(items, above.begin, above.end);
-        }
-        while (below.end > wanted) {
-            std::size_t crossing = below.end - 1u;
-            while (crossing > whole.begin && bucket_at(crossing) != choice.edges[0])
-                --crossing;
-            std::swap(items[below.end - 1u], items[crossing]);
-            --below.end;
-            above.begin = below.end;
-            above.bounds.add(items[above.begin]);
-            if (below.end == wanted && below.size() < exact_below)
-                below = part_of(items, below.begin, below.end);
-        }
+        partition(items, whole, buckets, choice, below, above);
+        const std::size_t wanted = whole.begin + nearest_count(below.end - whole.begin,
+                                                               whole.size(), residue_a, residue_b);
+        cross_to(items, whole, buckets, choice, wanted, below, above);
     }
 
     // `split` for at most `few` lights: the least SAOH cost over every position of the lights'
@@ -125,35 +87,15 @@ struct LightBvhSplits : LightBvhItems {
         const auto n = static_cast<std::uint32_t>(whole.size());
         std::uint32_t order[3][few];
         Bounds before[3][few], after[3][few]; // [k]: the first k, the last n - k
-        std::uint32_t counts[few], count_total = 0u;
-        for (std::uint32_t k = 1u; k < n; ++k)
-            if (residue(k) == residue_a || residue(k) == residue_b)
-                counts[count_total++] = k;
-        if (count_total == 0u)
-            counts[count_total++] =
-                static_cast<std::uint32_t>(nearest_count(n / 2u, n, residue_a, residue_b));
+        std::uint32_t counts[few];
+        const std::uint32_t count_total = allowed_counts(n, residue_a, residue_b, counts);
         const glm::vec3 extent = whole.bounds.upper() - whole.bounds.lower();
         const float longest = std::max(extent.x, std::max(extent.y, extent.z));
         Features features;
         std::uint32_t slot = 0u;
         for (int a = 0; a < 3; ++a) {
-            // Sorted by centre through each light's rank (the lights before it, ties by index):
-            // no branches, which a sort of so few would mispredict.
-            std::uint32_t* sorted = order[a];
-            float key[few];
-            for (std::uint32_t i = 0u; i < few; ++i) // past n: behind every light
-                key[i] = i < n ? items[whole.begin + i].centre(a)
-                               : std::numeric_limits<float>::infinity();
-            std::uint32_t rank[few] = {};
-            for (std::uint32_t j = 0u; j < n; ++j) {
-                const float other = key[j];
-                for (std::uint32_t i = 0u; i < few; ++i)
-                    rank[i] += static_cast<std::uint32_t>(other < key[i]) |
-                               (static_cast<std::uint32_t>(other == key[i]) &
-                                static_cast<std::uint32_t>(j < i));
-            }
-            for (std::uint32_t i = 0u; i < n; ++i)
-                sorted[rank[i]] = i;
+            const std::uint32_t* sorted = order[a];
+            sort_by_centre(items, whole, a, order[a]);
             Bounds running = Bounds::empty();
             for (std::uint32_t k = 1u; k < n; ++k) {
                 running.add(items[whole.begin + sorted[k - 1u]]);
@@ -185,6 +127,44 @@ struct LightBvhSplits : LightBvhItems {
         std::copy(moved, moved + n, items.begin() + static_cast<std::ptrdiff_t>(whole.begin));
         below = {whole.begin, whole.begin + count, before[axis][count]};
         above = {whole.begin + count, whole.end, after[axis][count]};
+    }
+
+    /// The counts in [1, n) of lights below a split of `split_few` that are `residue_a` or
+    /// `residue_b` (`residue`), in `counts`, ascending; where there is none, the one nearest n / 2.
+    /// Returns how many there are.
+    static std::uint32_t allowed_counts(std::uint32_t n, std::uint32_t residue_a,
+                                        std::uint32_t residue_b, std::uint32_t (&counts)[few]) {
+        std::uint32_t count_total = 0u;
+        for (std::uint32_t k = 1u; k < n; ++k)
+            if (residue(k) == residue_a || residue(k) == residue_b)
+                counts[count_total++] = k;
+        if (count_total == 0u)
+            counts[count_total++] =
+                static_cast<std::uint32_t>(nearest_count(n / 2u, n, residue_a, residue_b));
+        return count_total;
+    }
+
+    /// The lights of `whole` (at most `few`) in order of their centres along axis `a`, as
+    /// offsets from whole.begin in `sorted`: through each light's rank (the lights before it,
+    /// ties by index), without branches, which a sort of so few would mispredict.
+    RESTIR_FORCE_INLINE static void sort_by_centre(const std::vector<Item>& items,
+                                                   const Part& whole, int a,
+                                                   std::uint32_t (&sorted)[few]) {
+        const auto n = static_cast<std::uint32_t>(whole.size());
+        float key[few];
+        for (std::uint32_t i = 0u; i < few; ++i) // past n: behind every light
+            key[i] =
+                i < n ? items[whole.begin + i].centre(a) : std::numeric_limits<float>::infinity();
+        std::uint32_t rank[few] = {};
+        for (std::uint32_t j = 0u; j < n; ++j) {
+            const float other = key[j];
+            for (std::uint32_t i = 0u; i < few; ++i)
+                rank[i] += static_cast<std::uint32_t>(other < key[i]) |
+                           (static_cast<std::uint32_t>(other == key[i]) &
+                            static_cast<std::uint32_t>(j < i));
+        }
+        for (std::uint32_t i = 0u; i < n; ++i)
+            sorted[rank[i]] = i;
     }
 
     // The count in [1, n) nearest `count` that is `residue_a` or `residue_b` (`residue`).
@@ -247,18 +227,106 @@ struct LightBvhSplits : LightBvhItems {
         Bounds below = Bounds::empty(), above = Bounds::empty();
     };
 
+    /// The bucket of light i along `choice`'s axis, of `buckets`, as a function of i.
+    static auto bucket_along(const std::vector<Item>& items, const Choice& choice,
+                             std::uint32_t buckets) {
+        const int axis = choice.axis;
+        return [&items, &choice, axis, buckets](std::size_t i) {
+            return bucket_of(items[i].centre(axis), choice.origin, choice.scale, buckets);
+        };
+    }
+
+    /// The lights of `whole` moved to either side of `choice` (of `buckets` buckets): `below`
+    /// those of its buckets up to choice.bucket, `above` the others, with the choice's bounds.
+    /// Lomuto's partition without a branch (a split is random to a branch predictor):
+    /// [middle, i) stays above, so swapping light i in is right whichever side it is on.
+    RESTIR_FORCE_INLINE static void partition(std::vector<Item>& items, const Part& whole,
+                                              std::uint32_t buckets, const Choice& choice,
+                                              Part& below, Part& above) {
+        const auto bucket_at = bucket_along(items, choice, buckets);
+        std::size_t middle = whole.begin;
+        for (std::size_t i = whole.begin; i < whole.end; ++i) {
+            const bool goes_below = bucket_at(i) <= choice.bucket;
+            std::swap(items[i], items[middle]);
+            middle += goes_below ? 1u : 0u;
+        }
+        below = {whole.begin, middle, choice.below};
+        above = {middle, whole.end, choice.above};
+    }
+
+    /// Moves the boundary between `below` and `above` (the parts of `whole` that `partition`
+    /// made) to index `wanted`: lights of the buckets at the boundary (`choice.edges`) cross it. A
+    /// side that gains lights takes their bounds; one that loses them keeps bounds that still
+    /// hold it, made exact again below `exact_below` lights (a large side hardly shrinks).
+    static void cross_to(std::vector<Item>& items, const Part& whole, std::uint32_t buckets,
+                         const Choice& choice, std::size_t wanted, Part& below, Part& above) {
+        const auto bucket_at = bucket_along(items, choice, buckets);
+        constexpr std::size_t exact_below = 64u;
+        while (below.end < wanted) {
+            std::size_t crossing = below.end;
+            while (crossing + 1u < whole.end && bucket_at(crossing) != choice.edges[1])
+                ++crossing;
+            std::swap(items[below.end], items[crossing]);
+            below.bounds.add(items[below.end]);
+            ++below.end;
+            above.begin = below.end;
+            if (below.end == wanted && above.size() < exact_below)
+                above = part_of(items, above.begin, above.end);
+        }
+        while (below.end > wanted) {
+            std::size_t crossing = below.end - 1u;
+            while (crossing > whole.begin && bucket_at(crossing) != choice.edges[0])
+                --crossing;
+            std::swap(items[below.end - 1u], items[crossing]);
+            --below.end;
+            above.begin = below.end;
+            above.bounds.add(items[above.begin]);
+            if (below.end == wanted && below.size() < exact_below)
+                below = part_of(items, below.begin, below.end);
+        }
+    }
+
     // The bucket boundary of least SAOH cost over `buckets` buckets per axis.
     static void best_split(const std::vector<Item>& items, const Part& whole, std::uint32_t buckets,
                            Choice& choice) {
-        // Two sets of buckets for alternate lights where there are many: consecutive lights
-        // often fall in the same bucket, and each update waits for the one before.
-        const std::uint32_t sets = whole.size() >= 256u ? 2u : 1u;
         Bounds bucket[2][3][bucket_count];
+        float origin[3], scale[3];
+        fill_buckets(items, whole, buckets, bucket, origin, scale);
+        Features features;
+        const std::uint32_t candidates = buckets - 1u;
+        const glm::vec3 extent = whole.bounds.upper() - whole.bounds.lower();
+        features.set_sides(bucket[0], extent, candidates);
+        features.saoh_costs(6u * candidates);
+        features.choose(scale, candidates, choice);
+        if (choice.axis < 0)
+            return;
+        choice.origin = origin[choice.axis];
+        choice.scale = scale[choice.axis];
+        choice.edges[0] = 0u;
+        choice.edges[1] = buckets;
+        for (std::uint32_t b = 0u; b < buckets; ++b) {
+            const Bounds& in = bucket[0][choice.axis][b];
+            (b <= choice.bucket ? choice.below : choice.above).add(in);
+            if (in.count > 0u && b <= choice.bucket)
+                choice.edges[0] = b;
+            if (in.count > 0u && b > choice.bucket)
+                choice.edges[1] = std::min(choice.edges[1], b);
+        }
+    }
+
+    /// The bounds of the lights of `whole` in each of `buckets` buckets across its box along each
+    /// axis, in bucket[0] (`origin` and `scale` of the buckets along each axis: scale 0 where
+    /// the box is flat). Two sets of buckets for alternate lights where there are many:
+    /// consecutive lights often fall in the same bucket, and each update waits for the one
+    /// before; the second set is then added to the first.
+    static void fill_buckets(const std::vector<Item>& items, const Part& whole,
+                             std::uint32_t buckets, Bounds (&bucket)[2][3][bucket_count],
+                             float (&origin)[3], float (&scale)[3]) {
+        const std::uint32_t sets = whole.size() >= 256u ? 2u : 1u;
         for (std::uint32_t set = 0u; set < sets; ++set)
             for (auto& axis_buckets : bucket[set])
                 for (std::uint32_t b = 0u; b < buckets; ++b)
                     axis_buckets[b] = Bounds::empty();
-        float origin[3], scale[3];
         const glm::vec3 lower = whole.bounds.lower(), upper = whole.bounds.upper();
         for (int a = 0; a < 3; ++a) {
             origin[a] = lower[a];
@@ -275,56 +343,6 @@ struct LightBvhSplits : LightBvhItems {
             for (int a = 0; a < 3; ++a)
                 for (std::uint32_t b = 0u; b < buckets; ++b)
                     bucket[0][a][b].add(bucket[1][a][b]);
-        const glm::vec3 extent = upper - lower;
-        const float longest = std::max(extent.x, std::max(extent.y, extent.z));
-        Features features;
-        const std::uint32_t candidates = buckets - 1u;
-        for (int a = 0; a < 3; ++a) {
-            const auto& axis_buckets = bucket[0][a];
-            // The thin-box factor: a long box is not split across its short side.
-            const float thin = extent[a] > 0.0f ? longest / extent[a] : 1.0f;
-            // Candidate b of axis a: buckets [0, b] below, (b, last] above.
-            Bounds running = axis_buckets[0];
-            for (std::uint32_t b = 0u; b < candidates; ++b) {
-                features.set(Features::slot(a, b, false, candidates), running, thin);
-                running.add(axis_buckets[b + 1u]);
-            }
-            running = axis_buckets[candidates];
-            for (std::uint32_t b = candidates; b-- > 0u;) {
-                features.set(Features::slot(a, b, true, candidates), running, thin);
-                running.add(axis_buckets[b]);
-            }
-        }
-        features.saoh_costs(6u * candidates);
-        float best_cost = std::numeric_limits<float>::infinity();
-        for (int a = 0; a < 3; ++a) {
-            if (!(scale[a] > 0.0f))
-                continue;
-            for (std::uint32_t b = 0u; b < candidates; ++b) {
-                const std::uint32_t k = Features::slot(a, b, false, candidates);
-                const std::uint32_t k_above = Features::slot(a, b, true, candidates);
-                const float cost = features.cost[k] + features.cost[k_above];
-                if (features.count[k] > 0u && features.count[k_above] > 0u && cost < best_cost) {
-                    best_cost = cost;
-                    choice.axis = a;
-                    choice.bucket = b;
-                }
-            }
-        }
-        if (choice.axis < 0)
-            return;
-        choice.origin = origin[choice.axis];
-        choice.scale = scale[choice.axis];
-        choice.edges[0] = 0u;
-        choice.edges[1] = buckets;
-        for (std::uint32_t b = 0u; b < buckets; ++b) {
-            const Bounds& in = bucket[0][choice.axis][b];
-            (b <= choice.bucket ? choice.below : choice.above).add(in);
-            if (in.count > 0u && b <= choice.bucket)
-                choice.edges[0] = b;
-            if (in.count > 0u && b > choice.bucket)
-                choice.edges[1] = std::min(choice.edges[1], b);
-        }
     }
 
     // What the cost of a side needs, for every candidate of the three axes, copied out as a
@@ -348,6 +366,50 @@ struct LightBvhSplits : LightBvhItems {
             power[k] = bounds.power;
             thin[k] = thin_box;
             count[k] = bounds.count;
+        }
+
+        /// Both sides of each of the `candidates` bucket boundaries of each axis, from the
+        /// buckets of `best_split` (`extent`: its part's box).
+        void set_sides(const Bounds (&bucket)[3][bucket_count], glm::vec3 extent,
+                       std::uint32_t candidates) {
+            const float longest = std::max(extent.x, std::max(extent.y, extent.z));
+            for (int a = 0; a < 3; ++a) {
+                const auto& axis_buckets = bucket[a];
+                // The thin-box factor: a long box is not split across its short side.
+                const float thin_box = extent[a] > 0.0f ? longest / extent[a] : 1.0f;
+                // Candidate b of axis a: buckets [0, b] below, (b, last] above.
+                Bounds running = axis_buckets[0];
+                for (std::uint32_t b = 0u; b < candidates; ++b) {
+                    set(slot(a, b, false, candidates), running, thin_box);
+                    running.add(axis_buckets[b + 1u]);
+                }
+                running = axis_buckets[candidates];
+                for (std::uint32_t b = candidates; b-- > 0u;) {
+                    set(slot(a, b, true, candidates), running, thin_box);
+                    running.add(axis_buckets[b]);
+                }
+            }
+        }
+
+        /// The boundary of least cost (`saoh_costs`) with lights on both sides, of an axis along
+        /// which the buckets have a `scale`, in choice.axis and choice.bucket (axis -1 where
+        /// there is none).
+        void choose(const float (&scale)[3], std::uint32_t candidates, Choice& choice) const {
+            float best_cost = std::numeric_limits<float>::infinity();
+            for (int a = 0; a < 3; ++a) {
+                if (!(scale[a] > 0.0f))
+                    continue;
+                for (std::uint32_t b = 0u; b < candidates; ++b) {
+                    const std::uint32_t k = slot(a, b, false, candidates);
+                    const std::uint32_t k_above = slot(a, b, true, candidates);
+                    const float side_costs = cost[k] + cost[k_above];
+                    if (count[k] > 0u && count[k_above] > 0u && side_costs < best_cost) {
+                        best_cost = side_costs;
+                        choice.axis = a;
+                        choice.bucket = b;
+                    }
+                }
+            }
         }
 
         // The SAOH cost (the orientation-aware SAH of Conty Estevez and Kulla 2018) of each side:

@@ -283,15 +283,23 @@ private:
             d.result = {g.child_or_light[child] & ~LightBvhNode::leaf_bit, d.pmf};
             return;
         }
+        descend(w, g, child, d);
+        d.u = min_of(max_of((x - start) / chosen, 0.0f), 0x1.fffffep-1f);
+        ++d.depth;
+    }
+
+    /// Moves descent `d` down to interior child `child` of its group `g` (whose weights are
+    /// `w`): that child's group, and the grid its children's boxes are stored on.
+    RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE static void
+    descend(const Weights& w, const LightBvhGroup& g, std::uint32_t child, Descent& d) {
         d.group = g.child_or_light[child];
 #if RESTIR_LIGHT_BVH_LANE_GRIDS
         d.grid = {glm::vec3(w.origins[0][child], w.origins[1][child], w.origins[2][child]),
                   glm::vec3(w.cells[0][child], w.cells[1][child], w.cells[2][child])};
 #else
+        (void)w;
         d.grid = g.child_grid(child, d.grid);
 #endif
-        d.u = min_of(max_of((x - start) / chosen, 0.0f), 0x1.fffffep-1f);
-        ++d.depth;
     }
 
     // On the host, asks for the group of every interior child while the children are being

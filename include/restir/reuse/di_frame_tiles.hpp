@@ -139,6 +139,21 @@ struct AnsweredTarget {
     }
 };
 
+/// A `BatchVisibility` asked one question at a time: the `VisibilityFunction` of a stage that
+/// runs per pixel inside a tile.
+template <class Tracer>
+struct OneQueryAtATime {
+    const Tracer* tracer;
+    template <class Sample, class S>
+    bool operator()(const Sample& sample, const S& surface) const {
+        const VisibilityQuery<Sample, S> query{&sample, &surface};
+        bool visible = false;
+        tracer->trace(std::span<const VisibilityQuery<Sample, S>>(&query, 1u),
+                      std::span<bool>(&visible, 1u));
+        return visible;
+    }
+};
+
 /// Visibility from a pixel's answers where they have it, else traced on its own.
 template <class Tracer, class Sample, class S>
 struct AnsweredVisibility {
@@ -149,11 +164,7 @@ struct AnsweredVisibility {
         const std::uint32_t j = answers->find(x, surface);
         if (j != MisAnswers<Sample, S>::none)
             return answers->target[j] > 0.0f && visible[answers->query[j]];
-        const VisibilityQuery<Sample, S> query{&x, &surface};
-        bool answer = false;
-        tracer->trace(std::span<const VisibilityQuery<Sample, S>>(&query, 1u),
-                      std::span<bool>(&answer, 1u));
-        return answer;
+        return OneQueryAtATime<Tracer>{tracer}(x, surface);
     }
 };
 
@@ -240,21 +251,6 @@ void test_tile(const PixelTile& tile, ImageView<Reservoir<Sample>> output, const
         });
     });
 }
-
-/// A `BatchVisibility` asked one question at a time: the `VisibilityFunction` of a stage that
-/// runs per pixel inside a tile.
-template <class Tracer>
-struct OneQueryAtATime {
-    const Tracer* tracer;
-    template <class Sample, class S>
-    bool operator()(const Sample& sample, const S& surface) const {
-        const VisibilityQuery<Sample, S> query{&sample, &surface};
-        bool visible = false;
-        tracer->trace(std::span<const VisibilityQuery<Sample, S>>(&query, 1u),
-                      std::span<bool>(&visible, 1u));
-        return visible;
-    }
-};
 
 /// `TileReuse` for a frame's reuse bridge (a `ReuseBridge` without a shift).
 template <class Sample, class S, class Target, class Tracer, class MaterialTest>

@@ -98,6 +98,83 @@ struct GridCandidate {
     float weight = 0.0f;
 };
 
+namespace detail {
+/// How many of `resample_grid_tile`'s draws and entries it takes at a time: on a CPU, the numbers
+/// of 64 draws come first, for the prefetches; in device code one, with nothing to prefetch.
+RESTIR_HOST_DEVICE constexpr std::uint32_t grid_tile_chunk() {
+#if defined(__CUDA_ARCH__)
+    return 1u;
+#else
+    return 64u;
+#endif
+}
+
+/// Draws `count` lights from `sampler` (two numbers each, the order of `sample_light`) into
+/// `scratch`, each with its pmf in `weight` for now, a chunk at a time: the numbers of a chunk
+/// first, what each draw reads asked for ahead (`prefetch_draw`), then the draws.
+template <LightSampler Sampler, UniformRng Rng>
+RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE void draw_grid_candidates(const Sampler& sampler, Rng& rng,
+                                                                 std::uint32_t count,
+                                                                 GridCandidate* scratch) {
+    constexpr std::uint32_t chunk = grid_tile_chunk();
+    for (std::uint32_t first = 0u; first < count; first += chunk) {
+        const std::uint32_t n = min_of(chunk, count - first);
+        float u[chunk][2];
+        for (std::uint32_t k = 0u; k < n; ++k) {
+            u[k][0] = next_float(rng); // the order of `sample_light`
+            u[k][1] = next_float(rng);
+            detail::prefetch_draw(sampler, u[k][0], u[k][1]);
+        }
+        for (std::uint32_t k = 0u; k < n; ++k) {
+            const DiscreteSample drawn = sampler.sample(u[k][0], u[k][1]);
+            scratch[first + k] = {drawn.index, 0.0f, drawn.pmf};
+        }
+    }
+}
+
+/// The target (the light's importance bound at `region`) and the RIS weight, target / pmf, of
+/// each of the `count` candidates of `scratch` as `draw_grid_candidates` left them (0 where the
+/// pmf is not positive), their bounds asked for ahead.
+template <class NodeOf>
+RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE void
+weigh_grid_candidates(const NodeOf& node_of, const ShadingPoint& region, std::uint32_t count,
+                      GridCandidate* scratch) {
+    constexpr std::uint32_t ahead = 16u; // bounds asked for this many candidates ahead
+    for (std::uint32_t k = 0u; k < count; ++k) {
+        if (k + ahead < count)
+            RESTIR_PREFETCH(&node_of(scratch[k + ahead].light));
+        GridCandidate& c = scratch[k];
+        const float pmf = c.weight;
+        c.target = pmf > 0.0f ? light_importance(node_of(c.light), region) : 0.0f;
+        c.weight = pmf > 0.0f ? c.target / pmf : 0.0f;
+    }
+}
+
+/// One of the `m` weighed candidates at `first` in proportion to their weights (Talbot 2005,
+/// Eq. 3.2; one number), never one of weight 0: its light and, in `pmf`, the entry's pdf, the
+/// reciprocal of its contribution weight (0 where no weight is positive or they overflow).
+template <UniformRng Rng>
+RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE DiscreteSample choose_grid_entry(const GridCandidate* first,
+                                                                        std::uint32_t m, Rng& rng) {
+    float total = 0.0f;
+    for (std::uint32_t k = 0u; k < m; ++k)
+        total += first[k].weight;
+    float x = next_float(rng) * total;
+    std::uint32_t chosen = 0u;
+    for (std::uint32_t k = 0u; k < m; ++k) {
+        chosen = first[k].weight > 0.0f ? k : chosen; // never one of weight 0
+        if (x < first[k].weight)
+            break;
+        x -= first[k].weight;
+    }
+    const GridCandidate y = m > 0u ? first[chosen] : GridCandidate{};
+    const float pdf = total > 0.0f && y.target > 0.0f && is_finite(total)
+                          ? y.target * static_cast<float>(m) / total
+                          : 0.0f;
+    return {y.light, pdf};
+}
+} // namespace detail
+
 /// Resamples the `entry_count` entries of one cell's tile. Entry j is RIS over its own
 /// `candidates_per_entry` lights drawn from `sampler`, with the lights' importance bounds at
 /// `region` (`LightGridLayout::cell_region`) as the target: `node_of(id)` gives light id's
@@ -118,59 +195,20 @@ resample_grid_tile(const Sampler& sampler, const ShadingPoint& region, const Nod
                    std::uint32_t candidates_per_entry, GridCandidate* scratch, Store&& store) {
     const std::uint32_t m = candidates_per_entry;
     const std::uint32_t count = entry_count * m;
-#if defined(__CUDA_ARCH__)
-    constexpr std::uint32_t chunk = 1u; // nothing to prefetch
-#else
-    constexpr std::uint32_t chunk = 64u; // draws whose numbers come first, for the prefetches
-#endif
-    for (std::uint32_t first = 0u; first < count; first += chunk) {
-        const std::uint32_t n = min_of(chunk, count - first);
-        float u[chunk][2];
-        for (std::uint32_t k = 0u; k < n; ++k) {
-            u[k][0] = next_float(rng); // the order of `sample_light`
-            u[k][1] = next_float(rng);
-            detail::prefetch_draw(sampler, u[k][0], u[k][1]);
-        }
-        for (std::uint32_t k = 0u; k < n; ++k) {
-            const DiscreteSample drawn = sampler.sample(u[k][0], u[k][1]);
-            scratch[first + k] = {drawn.index, 0.0f, drawn.pmf};
-        }
-    }
-    constexpr std::uint32_t ahead = 16u; // bounds asked for this many candidates ahead
-    for (std::uint32_t k = 0u; k < count; ++k) {
-        if (k + ahead < count)
-            RESTIR_PREFETCH(&node_of(scratch[k + ahead].light));
-        GridCandidate& c = scratch[k];
-        const float pmf = c.weight;
-        c.target = pmf > 0.0f ? light_importance(node_of(c.light), region) : 0.0f;
-        c.weight = pmf > 0.0f ? c.target / pmf : 0.0f;
-    }
+    detail::draw_grid_candidates(sampler, rng, count, scratch);
+    detail::weigh_grid_candidates(node_of, region, count, scratch);
     // The entries chosen a run at a time, their lights asked for ahead of their points.
+    constexpr std::uint32_t chunk = detail::grid_tile_chunk();
     for (std::uint32_t run = 0u; run < entry_count; run += chunk) {
         const std::uint32_t n = min_of(chunk, entry_count - run);
         SourceSample<LightSampleRef> entries[chunk];
         for (std::uint32_t e = 0u; e < n; ++e) {
-            // Entry j = run + e: one of candidates [j m, j m + m) in proportion to w (Talbot
-            // 2005, Eq. 3.2).
-            const GridCandidate* first = scratch + std::uint64_t{run + e} * m;
-            float total = 0.0f;
-            for (std::uint32_t k = 0u; k < m; ++k)
-                total += first[k].weight;
-            float x = next_float(rng) * total;
-            std::uint32_t chosen = 0u;
-            for (std::uint32_t k = 0u; k < m; ++k) {
-                chosen = first[k].weight > 0.0f ? k : chosen; // never one of weight 0
-                if (x < first[k].weight)
-                    break;
-                x -= first[k].weight;
-            }
-            const GridCandidate y = m > 0u ? first[chosen] : GridCandidate{};
-            const float pdf = total > 0.0f && y.target > 0.0f && is_finite(total)
-                                  ? y.target * static_cast<float>(m) / total
-                                  : 0.0f;
-            entries[e] = with_uniform_point({y.light, pdf}, rng);
-            if (pdf > 0.0f) // a light, whose point `presampled` evaluates
-                detail::prefetch_light(lights, y.light, entries[e].sample.uv);
+            // Entry j = run + e: one of candidates [j m, j m + m).
+            const DiscreteSample y =
+                detail::choose_grid_entry(scratch + std::uint64_t{run + e} * m, m, rng);
+            entries[e] = with_uniform_point(y, rng);
+            if (y.pmf > 0.0f) // a light, whose point `presampled` evaluates
+                detail::prefetch_light(lights, y.index, entries[e].sample.uv);
         }
         for (std::uint32_t e = 0u; e < n; ++e)
             store(run + e, presampled(entries[e], lights));

@@ -225,6 +225,43 @@ RESTIR_HOST_DEVICE TileLane tile_lane(const Value& value, float target) {
     return {target, value(TilePlane::inverse_pdf)};
 }
 
+#if defined(__CUDA_ARCH__)
+/// Device code's part of `evaluate_tile_block_with`: the `lanes` lanes of one group whose planes
+/// start at `planes` (each `tile_group_size` floats), into lanes [offset, offset + lanes) of
+/// `block`. Up to four lanes at a time, each plane's values in one load (16 bytes for four)
+/// through the read-only cache: a thread reads its block's bytes once. (With 4-byte loads of
+/// eight lanes a 32-byte sector may be fetched from L2 once per lane, since L1 cannot hold every
+/// thread's block; docs/performance.md, "GPU".)
+template <std::uint32_t lanes, std::uint32_t Size, class LaneOf>
+RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE void
+evaluate_tile_lanes_on_device(const float* planes, std::uint32_t offset,
+                              CandidateBlock<Size>& block, const LaneOf& lane_of) {
+    constexpr std::uint32_t width = lanes < 4u ? lanes : 4u;
+    using Vector =
+        std::conditional_t<width == 4u, float4, std::conditional_t<width == 2u, float2, float>>;
+    RESTIR_ASSERT(reinterpret_cast<std::uintptr_t>(planes) % sizeof(Vector) == 0u);
+    for (std::uint32_t quad = 0; quad < lanes; quad += width) {
+        Vector values[tile_plane_count];
+        for (std::uint32_t k = 0; k < tile_plane_count; ++k)
+            values[k] = __ldg(reinterpret_cast<const Vector*>(planes + k * tile_group_size + quad));
+        for (std::uint32_t j = 0; j < width; ++j) {
+            const auto value = [&](TilePlane k) {
+                const Vector& v = values[static_cast<std::uint32_t>(k)];
+                if constexpr (width == 4u)
+                    return j == 0u ? v.x : j == 1u ? v.y : j == 2u ? v.z : v.w;
+                else if constexpr (width == 2u)
+                    return j == 0u ? v.x : v.y;
+                else
+                    return v;
+            };
+            const TileLane lane = lane_of(value);
+            block.target[offset + quad + j] = lane.target;
+            block.inverse_pdf[offset + quad + j] = lane.inverse_pdf;
+        }
+    }
+}
+#endif
+
 /// The loop of `evaluate_tile_block`: `lane_of(value)` is the `TileLane` of the entry whose
 /// plane values `value(TilePlane)` reads. A block covers whole groups, or `Size` (1, 2 or 4)
 /// consecutive entries inside one group.
@@ -246,34 +283,7 @@ evaluate_tile_block_with(const LightTileArrays& tiles, std::uint32_t tile, std::
         // block's lanes start at `lane0` in each.
         const float* planes = tiles.group_plane(entry - lane0, TilePlane::position_x) + lane0;
 #if defined(__CUDA_ARCH__)
-        // Up to four lanes at a time, each plane's values in one load (16 bytes for four)
-        // through the read-only cache: a thread reads its block's bytes once. (With 4-byte
-        // loads of eight lanes a 32-byte sector may be fetched from L2 once per lane, since L1
-        // cannot hold every thread's block; docs/performance.md, "GPU".)
-        constexpr std::uint32_t width = lanes < 4u ? lanes : 4u;
-        using Vector =
-            std::conditional_t<width == 4u, float4, std::conditional_t<width == 2u, float2, float>>;
-        RESTIR_ASSERT(reinterpret_cast<std::uintptr_t>(planes) % sizeof(Vector) == 0u);
-        for (std::uint32_t quad = 0; quad < lanes; quad += width) {
-            Vector values[tile_plane_count];
-            for (std::uint32_t k = 0; k < tile_plane_count; ++k)
-                values[k] =
-                    __ldg(reinterpret_cast<const Vector*>(planes + k * tile_group_size + quad));
-            for (std::uint32_t j = 0; j < width; ++j) {
-                const auto value = [&](TilePlane k) {
-                    const Vector& v = values[static_cast<std::uint32_t>(k)];
-                    if constexpr (width == 4u)
-                        return j == 0u ? v.x : j == 1u ? v.y : j == 2u ? v.z : v.w;
-                    else if constexpr (width == 2u)
-                        return j == 0u ? v.x : v.y;
-                    else
-                        return v;
-                };
-                const TileLane lane = lane_of(value);
-                block.target[group * lanes + quad + j] = lane.target;
-                block.inverse_pdf[group * lanes + quad + j] = lane.inverse_pdf;
-            }
-        }
+        evaluate_tile_lanes_on_device<lanes>(planes, group * lanes, block, lane_of);
 #else
         // Results go to local arrays first: `block` could alias the planes as far as the
         // compiler knows, and it will not check the planes for overlap at run time, so it
