@@ -221,6 +221,24 @@ TEST(Conformance, FrameRecipeInstantiatesWithStubTypes) {
     const restir::DiBridge bridge{initial, restir::ReuseBridge{stub::Target{}, stub::Visibility{}},
                                   rng_for, shade};
     static_assert(restir::DiFrameBridge<decltype(bridge), stub::Sample, stub::Surface>);
+    // The concept says no to a bridge whose members do not fit: candidates of another sample
+    // type, a generator factory that takes no stream, a shading callback that takes no answer.
+    const auto other_sample = [](restir::PixelCoord, const stub::Surface&, stub::Rng&) {
+        return restir::Reservoir<float>{};
+    };
+    const auto no_stream = [](restir::PixelCoord) { return stub::Rng{}; };
+    const auto no_answer = [](restir::PixelCoord, const restir::Reservoir<stub::Sample>&) {};
+    using Reuse = restir::ReuseBridge<stub::Target, stub::Visibility>;
+    static_assert(
+        !restir::DiFrameBridge<restir::DiBridge<decltype(other_sample), Reuse, decltype(rng_for)>,
+                               stub::Sample, stub::Surface>);
+    static_assert(
+        !restir::DiFrameBridge<restir::DiBridge<decltype(initial), Reuse, decltype(no_stream)>,
+                               stub::Sample, stub::Surface>);
+    static_assert(
+        !restir::DiFrameBridge<
+            restir::DiBridge<decltype(initial), Reuse, decltype(rng_for), decltype(no_answer)>,
+            stub::Sample, stub::Surface>);
     restir::run_di_frame(frame, buffers, bridge, for_each_pixel);
     EXPECT_EQ(shaded, 4u);
     EXPECT_GT(out[0].candidate_count, 1u) << "the history took part";
