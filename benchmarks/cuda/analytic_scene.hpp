@@ -6,6 +6,7 @@
 #pragma once
 
 #include "../../examples/common/cornell_box.hpp"
+#include "../../examples/common/pinhole_camera.hpp"
 
 #include <restir/restir.hpp>
 
@@ -268,40 +269,8 @@ inline Scene make_many_lights(std::uint32_t count, std::uint64_t seed,
 
 // --- Camera ---------------------------------------------------------------------------------
 
-/// A pinhole camera (restir-render's): rays through pixels, and the pixel a point projects to.
-struct Camera {
-    glm::vec3 position{0.0f}, forward{0.0f}, right{0.0f}, up{0.0f};
-    float tan_half = 1.0f, aspect = 1.0f, width = 1.0f, height = 1.0f;
-
-    static Camera look_at(glm::vec3 from, glm::vec3 at, float fov_degrees, std::uint32_t w,
-                          std::uint32_t h) {
-        Camera c;
-        c.position = from;
-        c.forward = glm::normalize(at - from);
-        c.right = glm::normalize(glm::cross(c.forward, glm::vec3(0.0f, 1.0f, 0.0f)));
-        c.up = glm::cross(c.right, c.forward);
-        c.tan_half = std::tan(0.5f * fov_degrees * 0.017453292519943295f);
-        c.width = static_cast<float>(w);
-        c.height = static_cast<float>(h);
-        c.aspect = c.width / c.height;
-        return c;
-    }
-    RESTIR_HOST_DEVICE glm::vec3 direction(glm::vec2 pixel) const {
-        const float sx = (2.0f * pixel.x / width - 1.0f) * tan_half * aspect;
-        const float sy = (1.0f - 2.0f * pixel.y / height) * tan_half;
-        return glm::normalize(forward + sx * right + sy * up);
-    }
-    RESTIR_HOST_DEVICE bool project(glm::vec3 point, glm::vec2& pixel) const {
-        const glm::vec3 d = point - position;
-        const float z = glm::dot(d, forward);
-        if (!(z > 0.0f))
-            return false;
-        const float sx = glm::dot(d, right) / (z * tan_half * aspect);
-        const float sy = glm::dot(d, up) / (z * tan_half);
-        pixel = {0.5f * (sx + 1.0f) * width, 0.5f * (1.0f - sy) * height};
-        return true;
-    }
-};
+/// A pinhole camera: restir-render's (examples/common/pinhole_camera.hpp).
+using Camera = common::PinholeCamera;
 
 /// A scene's camera: restir-render's position, target and vertical field of view.
 struct View {
@@ -319,8 +288,8 @@ inline Camera camera_of_frame(const View& view, std::uint32_t frame, std::uint32
                               std::uint32_t h) {
     const float sway =
         0.075f * glm::length(view.at - view.from) * std::sin(0.05f * static_cast<float>(frame));
-    return Camera::look_at(view.from + glm::vec3(sway, 0.0f, 0.0f), view.at, view.fov_degrees, w,
-                           h);
+    return Camera::look_at(view.from + glm::vec3(sway, 0.0f, 0.0f), view.at,
+                           glm::vec3(0.0f, 1.0f, 0.0f), view.fov_degrees, w, h);
 }
 
 } // namespace box

@@ -26,20 +26,8 @@ namespace box {
 using Reservoir = restir::Reservoir<restir::LightPointSample>;
 using Packed = restir::PackedPointReservoir;
 
-/// Reprojection through last frame's camera (restir::Reprojection).
-struct CameraReprojection {
-    Camera previous;
-    const Texel* surfaces = nullptr;
-    std::uint32_t width = 0u;
-    RESTIR_HOST_DEVICE restir::PixelCoord operator()(restir::PixelCoord p) const {
-        const Texel& s =
-            surfaces[static_cast<std::uint32_t>(p.x) + static_cast<std::uint32_t>(p.y) * width];
-        glm::vec2 q;
-        if (!previous.project(s.position, q))
-            return {-1, -1};
-        return {static_cast<std::int32_t>(floorf(q.x)), static_cast<std::int32_t>(floorf(q.y))};
-    }
-};
+/// Reprojection through last frame's camera (restir::Reprojection), restir-render's.
+using CameraReprojection = common::CameraReprojection<Texel>;
 
 /// A stored light point back as its sample (exact here: flat emitters of one radiance, VPLs).
 struct LightPointDecoder {
@@ -162,7 +150,7 @@ struct Context {
         Frame f{.params = params,
                 .frame_index = frame,
                 .surfaces = {surfaces, width, height},
-                .reproject = {previous_camera, surfaces, width}};
+                .reproject = {previous_camera, {surfaces, width, height}}};
         if (has_history) {
             f.previous_surfaces = {previous_surfaces, width, height};
             if constexpr (Frame::loads_history)

@@ -2,6 +2,7 @@
 // temporal reprojection).
 #pragma once
 
+#include "../common/pinhole_camera.hpp"
 #include "scene.hpp"
 
 #include <glm/common.hpp>
@@ -42,57 +43,25 @@ inline void check_camera(const CameraSetup& setup) {
         throw SceneError("the field of view must lie between 0 and 180 degrees");
 }
 
+/// The scene's camera over the rendered image (common::PinholeCamera, shared with the CUDA
+/// benchmark), built from a checked setup.
 class Camera {
 public:
     Camera() = default;
     Camera(const CameraSetup& setup, std::uint32_t width, std::uint32_t height)
-        : position_(setup.look_from), width_(static_cast<float>(width)),
-          height_(static_cast<float>(height)) {
-        forward_ = glm::normalize(setup.look_at - setup.look_from);
-        right_ = glm::normalize(glm::cross(forward_, up_for(forward_, setup.up)));
-        up_ = glm::cross(right_, forward_);
-        tan_half_ = std::tan(0.5f * setup.fov_degrees * 0.017453292519943295f);
-        aspect_ = width_ / height_;
-    }
+        : pinhole_(common::PinholeCamera::look_at(setup.look_from, setup.look_at, setup.up,
+                                                  setup.fov_degrees, width, height)) {}
 
-    glm::vec3 position() const { return position_; }
-    glm::vec3 forward() const { return forward_; }
-
+    glm::vec3 position() const { return pinhole_.position; }
+    glm::vec3 forward() const { return pinhole_.forward; }
     /// Unit direction through image point (x, y) in pixels, (0, 0) the top-left corner.
-    glm::vec3 direction(glm::vec2 pixel) const {
-        const float sx = (2.0f * pixel.x / width_ - 1.0f) * tan_half_ * aspect_;
-        const float sy = (1.0f - 2.0f * pixel.y / height_) * tan_half_;
-        return glm::normalize(forward_ + sx * right_ + sy * up_);
-    }
-
+    glm::vec3 direction(glm::vec2 pixel) const { return pinhole_.direction(pixel); }
     /// The image point (in pixels) that `point` projects to; false when it is behind the camera.
-    bool project(glm::vec3 point, glm::vec2& pixel) const {
-        const glm::vec3 d = point - position_;
-        const float z = glm::dot(d, forward_);
-        if (!(z > 0.0f))
-            return false;
-        const float sx = glm::dot(d, right_) / (z * tan_half_ * aspect_);
-        const float sy = glm::dot(d, up_) / (z * tan_half_);
-        pixel = {0.5f * (sx + 1.0f) * width_, 0.5f * (1.0f - sy) * height_};
-        return true;
-    }
+    bool project(glm::vec3 point, glm::vec2& pixel) const { return pinhole_.project(point, pixel); }
+    const common::PinholeCamera& pinhole() const { return pinhole_; }
 
 private:
-    // `up`, or when the view looks (nearly) along it, the world axis least aligned with the
-    // view, so that looking straight down still has a right vector.
-    static glm::vec3 up_for(glm::vec3 forward, glm::vec3 up) {
-        const glm::vec3 side = glm::cross(forward, up);
-        if (glm::dot(side, side) > 1e-8f * glm::dot(up, up))
-            return up;
-        const glm::vec3 a = glm::abs(forward);
-        return a.x <= a.y && a.x <= a.z ? glm::vec3(1.0f, 0.0f, 0.0f)
-               : a.y <= a.z             ? glm::vec3(0.0f, 1.0f, 0.0f)
-                                        : glm::vec3(0.0f, 0.0f, 1.0f);
-    }
-
-    glm::vec3 position_{0.0f}, forward_{0.0f, 0.0f, -1.0f}, right_{1.0f, 0.0f, 0.0f},
-        up_{0.0f, 1.0f, 0.0f};
-    float width_ = 1.0f, height_ = 1.0f, tan_half_ = 1.0f, aspect_ = 1.0f;
+    common::PinholeCamera pinhole_;
 };
 
 } // namespace pt

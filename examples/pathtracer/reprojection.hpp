@@ -14,24 +14,8 @@
 
 namespace pt {
 
-/// The previous camera's pixel of this frame's surface at `p` (a restir::Reprojection); outside
-/// the image where the previous camera did not see it.
-struct CameraReprojection {
-    const GBuffer* gbuffer = nullptr;
-    const Camera* previous_camera = nullptr;
-    std::uint32_t width = 0u;
-
-    restir::PixelCoord operator()(restir::PixelCoord p) const {
-        const GSurface& s =
-            gbuffer
-                ->surfaces()[static_cast<std::size_t>(p.x) + static_cast<std::size_t>(p.y) * width];
-        glm::vec2 q;
-        if (!previous_camera->project(s.position, q))
-            return {-1, -1};
-        return {static_cast<std::int32_t>(std::floor(q.x)),
-                static_cast<std::int32_t>(std::floor(q.y))};
-    }
-};
+/// The previous camera's pixel of this frame's surface (a restir::Reprojection).
+using CameraReprojection = common::CameraReprojection<GSurface>;
 
 /// Frame `frame` of the recipe `Frame` over this frame's G-buffer, with the settings' parameters
 /// (`frame_params`) and the reprojection into `previous_camera`; where `history` holds (and not
@@ -44,7 +28,7 @@ Frame frame_over(const GBuffer& gbuffer, const Camera& previous_camera,
     Frame f{.params = frame_params(settings),
             .frame_index = frame,
             .surfaces = {gbuffer.surfaces().data(), w, h},
-            .reproject = {&gbuffer, &previous_camera, w}};
+            .reproject = {previous_camera.pinhole(), {gbuffer.surfaces().data(), w, h}}};
     if (history && frame > 0)
         f.previous_surfaces = {gbuffer.previous_surfaces().data(), w, h};
     return f;
