@@ -41,7 +41,8 @@ struct DirectionSample {
 
 /// A `Receiver` that can also draw directions from its BSDF. Required expressions, for floats
 /// `u0, u1, u2` in [0, 1) and a unit direction `wi`:
-///   `r.sample_direction(u0, u1, u2)` -> convertible to DirectionSample;
+///   `r.sample_direction(u0, u1, u2)` -> convertible to DirectionSample (u0 picks the lobe of
+///                                       a BSDF of several, u1 and u2 the direction in it);
 ///   `r.direction_pdf(wi)`            -> float, the solid-angle density of that draw at wi.
 template <class R>
 concept SamplingReceiver = Receiver<R> && requires(const R& r, glm::vec3 wi, float u) {
