@@ -47,12 +47,7 @@ glm::vec3 PathTracer::reflected(const GSurface& s, const restir::LightSample& li
         restir::make_light_point_sample(0u, light, lights_.falloff()), glossy_receiver(s));
 }
 
-bool PathTracer::visible(const restir::LightSampleRef& ref, const GSurface& s) const {
-    return restir::LightVisibility<Unified, EmbreeScene>{&lights_.lights(), &rays_,
-                                                         ray_offset_}(ref, s);
-}
-
-// The segment restir::LightVisibility tests for a point of an emitter.
+// The segment restir::LightVisibility tests for a point of an emitter or a VPL.
 bool PathTracer::visible(const restir::LightSample& light, const GSurface& s) const {
     const restir::ShadowSegment segment =
         restir::shadow_segment(s.position, s.normal, light.position, light.normal, ray_offset_);
@@ -117,10 +112,10 @@ glm::vec3 PathTracer::vpl_nee(const GSurface& s, restir::Pcg32& rng) const {
         restir::sample_light(restir::PowerLightSampler{lights_.vpl_table().view()}, rng);
     if (!(c.pmf > 0.0f))
         return glm::vec3(0.0f);
-    const restir::LightSampleRef ref{lights_.lights().first_vpl() + c.index, {0.0f, 0.0f}};
-    if (!visible(ref, s))
+    const restir::LightSample vpl =
+        lights_.lights().sample_point(lights_.lights().first_vpl() + c.index, glm::vec2(0.0f));
+    if (!visible(vpl, s))
         return glm::vec3(0.0f);
-    const restir::LightSample vpl = lights_.lights().sample_point(ref.light_id, ref.uv);
     return reflected(s, vpl) / c.pmf;
 }
 

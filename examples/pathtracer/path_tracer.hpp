@@ -60,7 +60,8 @@ private:
     glm::vec3 escaped(const restir::BsdfSample& bounce) const;
     /// Light of a point `light` (unshadowed) reflected at `s` towards its viewer.
     glm::vec3 reflected(const GSurface& s, const restir::LightSample& light) const;
-    bool visible(const restir::LightSampleRef& ref, const GSurface& s) const;
+    /// Whether nothing blocks the segment between `s` and the point `light` (an emitter's or
+    /// a VPL's), each end off its surface by the ray offset.
     bool visible(const restir::LightSample& light, const GSurface& s) const;
 
     const Scene& scene_;
