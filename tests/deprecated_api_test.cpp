@@ -236,4 +236,57 @@ TEST(DeprecatedApi, CallbacksOneByOneGiveTheBridgeFormsResult) {
     expect_same({old}, {expected});
 }
 
+// A set of 0.2's form, whose members say that its inputs all lend and cap their M, is still
+// read that way: the same reservoir as a ReuseInputSpan with the cap.
+struct MemberTraitsSet {
+    static constexpr bool packed = true;
+    std::uint32_t candidate_cap = restir::no_candidate_cap;
+    const restir::ReuseInput<stub::Sample, stub::Surface>* inputs = nullptr;
+    std::uint32_t count = 0u;
+    std::uint32_t size() const { return count; }
+    restir::ReuseInput<stub::Sample, stub::Surface> operator[](std::uint32_t i) const {
+        return inputs[i];
+    }
+};
+
+TEST(DeprecatedApi, SetMembersPackedAndCandidateCapAreStillRead) {
+    using R = restir::Reservoir<stub::Sample>;
+    std::vector<stub::Surface> surfaces;
+    std::vector<R> reservoirs(4);
+    for (std::uint32_t i = 0u; i < 4u; ++i) {
+        surfaces.push_back(stub::Surface{0.5f + 0.1f * static_cast<float>(i)});
+        stub::Rng rng{i + 11u};
+        for (std::uint32_t k = 0; k < 8u; ++k) {
+            const stub::Sample x{k % 4u};
+            const float t = stub::Target{}(x, surfaces[i]);
+            reservoirs[i].stream(x, t, t, next_float(rng));
+        }
+        reservoirs[i].finalize();
+    }
+    std::vector<restir::ReuseInput<stub::Sample, stub::Surface>> lent;
+    for (std::uint32_t i = 1u; i < 4u; ++i)
+        lent.push_back({&reservoirs[i], &surfaces[i]});
+    const restir::ReuseBridge bridge{stub::Target{}, stub::Visibility{}};
+    for (const std::uint32_t cap : {2u, restir::no_candidate_cap}) {
+        stub::Rng a{5u}, b{5u};
+        const R old = restir::combine_inputs(reservoirs[0], surfaces[0],
+                                             MemberTraitsSet{cap, lent.data(), 3u},
+                                             restir::ReuseParams{}, bridge, a);
+        const R expected = restir::combine_inputs(
+            reservoirs[0], surfaces[0],
+            restir::ReuseInputSpan<stub::Sample, stub::Surface>{lent.data(), 3u, cap},
+            restir::ReuseParams{}, bridge, b);
+        EXPECT_EQ(old.sample.id, expected.sample.id);
+        EXPECT_EQ(old.candidate_count, expected.candidate_count);
+        EXPECT_EQ(old.contribution_weight, expected.contribution_weight);
+    }
+    // The cap lowers the M that the inputs lend: 8 + 3 x 2 against 8 + 3 x 8.
+    stub::Rng c{5u};
+    EXPECT_EQ(restir::combine_inputs(reservoirs[0], surfaces[0],
+                                     MemberTraitsSet{2u, lent.data(), 3u}, restir::ReuseParams{},
+                                     bridge, c)
+                  .candidate_count,
+              14u);
+}
+
 } // namespace

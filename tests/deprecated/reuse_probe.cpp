@@ -34,6 +34,30 @@ std::uint32_t probe_reuse_inputs(const restir::Reservoir<stub::Sample>& current,
     return search.neighbour_count + single.size() + history.reservoir.candidate_count;
 }
 
+// A set of the application's that declares its cap and packing as members (0.2's form).
+struct MemberTraitsSet {
+    static constexpr bool packed = true;
+    std::uint32_t candidate_cap = 4u;
+    restir::ReuseInput<stub::Sample, stub::Surface> input{};
+    std::uint32_t size() const { return 1u; }
+    restir::ReuseInput<stub::Sample, stub::Surface> operator[](std::uint32_t) const {
+        return input;
+    }
+};
+
+bool probe_neighbour_members() {
+    using Set = restir::SpatialNeighbours<stub::Sample, stub::Surface>;
+    return Set::packed && Set::streamed;
+}
+
+restir::Reservoir<stub::Sample> probe_set_members(const restir::Reservoir<stub::Sample>& current,
+                                                  const stub::Surface& surface) {
+    stub::Rng rng{1u};
+    const restir::ReuseBridge bridge{stub::Target{}, stub::Visibility{}};
+    return restir::combine_inputs(current, surface, MemberTraitsSet{4u, {&current, &surface}},
+                                  restir::ReuseParams{}, bridge, rng);
+}
+
 // The frame recipe's callbacks one by one, the forms before `DiBridge`.
 void probe_frame(std::vector<restir::Reservoir<stub::Sample>>& out,
                  std::vector<restir::Reservoir<stub::Sample>>& scratch,

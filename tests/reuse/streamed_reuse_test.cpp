@@ -59,6 +59,20 @@ struct ComputedInputs {
     }
 };
 
+} // namespace
+
+// Its cap, told as an application tells reuse about a set of its own.
+template <>
+struct restir::ReuseSetTraits<ComputedInputs> {
+    static constexpr bool all_lend(const ComputedInputs&) noexcept { return false; }
+    static constexpr std::uint32_t candidate_cap(const ComputedInputs& inputs) noexcept {
+        return inputs.candidate_cap;
+    }
+    static constexpr bool streamed = false;
+};
+
+namespace {
+
 // A receiver and up to 15 inputs on random patches: buffer slot 0 is the receiver.
 struct Trial {
     std::vector<Patch> patches;

@@ -40,9 +40,10 @@ RESTIR_HOST_DEVICE Reservoir<Sample> merge_inputs(const Reservoir<Sample>& canon
     for_each_input<Sample, S>(
         inputs, [&](std::uint32_t j, const Reservoir<Sample>& r, const S& there) {
             const bool lends = r.has_sample() && (!only_own_support || terms.own(r, there) > 0.0f);
-            typename Terms::Lent lent(r);
-            const float here = lends ? targets.lend(j, lent, r, there) : 0.0f;
-            result.merge(lent.of(r), here, next_float(rng));
+            typename Terms::Lent lent = r;
+            float jacobian = 1.0f;
+            const float here = lends ? targets.lend(j, lent, there, jacobian) : 0.0f;
+            result.merge(lent, here, next_float(rng));
         });
     return result;
 }
@@ -131,26 +132,27 @@ combine_balance_heuristic(const Reservoir<Sample>& canonical, const S& surface,
             safe_divide(own, own + neighbour_sums(canonical.sample, max_reuse_inputs).all);
     }
     result.merge_with_mis(canonical, canonical.target_value, canonical_mis, next_float(rng));
-    detail::for_each_input<Sample, S>(inputs, [&](std::uint32_t i, const Reservoir<Sample>& r,
-                                                  const S& there) {
-        typename decltype(terms)::Lent lent(r);
-        float here = 0.0f;
-        float mis_weight = 0.0f;
-        if (r.has_sample()) {
-            here = terms.lend(lent, r, there);
-            const Sums sums = neighbour_sums(lent.of(r).sample, i);
-            if constexpr (decltype(terms)::shifts)
-                // y = T(y_i): m_i = M_i p-hat_i(y_i) / (M_i p-hat_i(y_i) + |dT/dy_i| (M_c
-                // p-hat_q(y) + sum_{l != i} M_l p-hat_l(T_l(y)) |dT_l/dy|)), the balance
-                // heuristic over the targets carried to the receiver (Lin et al. 2022,
-                // Eq. 5.10), numerator and denominator times |dT/dy_i|.
-                mis_weight = safe_divide(
-                    sums.own, sums.own + lent.jacobian * (canonical_count * here + sums.others));
-            else
-                mis_weight = safe_divide(sums.own, canonical_count * here + sums.all);
-        }
-        result.merge_with_mis(lent.of(r), here, mis_weight, next_float(rng));
-    });
+    detail::for_each_input<Sample, S>(
+        inputs, [&](std::uint32_t i, const Reservoir<Sample>& r, const S& there) {
+            typename decltype(terms)::Lent lent = r;
+            float jacobian = 1.0f;
+            float here = 0.0f;
+            float mis_weight = 0.0f;
+            if (r.has_sample()) {
+                here = terms.lend(lent, there, jacobian);
+                const Sums sums = neighbour_sums(lent.sample, i);
+                if constexpr (decltype(terms)::shifts)
+                    // y = T(y_i): m_i = M_i p-hat_i(y_i) / (M_i p-hat_i(y_i) + |dT/dy_i| (M_c
+                    // p-hat_q(y) + sum_{l != i} M_l p-hat_l(T_l(y)) |dT_l/dy|)), the balance
+                    // heuristic over the targets carried to the receiver (Lin et al. 2022,
+                    // Eq. 5.10), numerator and denominator times |dT/dy_i|.
+                    mis_weight = safe_divide(
+                        sums.own, sums.own + jacobian * (canonical_count * here + sums.others));
+                else
+                    mis_weight = safe_divide(sums.own, canonical_count * here + sums.all);
+            }
+            result.merge_with_mis(lent, here, mis_weight, next_float(rng));
+        });
     result.finalize_normalized(1.0f);
     return result;
 }
@@ -193,18 +195,18 @@ combine_pairs(const Reservoir<Sample>& canonical, const S& surface, const Inputs
                                           const S& there) {
         const float count = static_cast<float>(r.candidate_count);
         const float pair_weight = safe_divide(count + pair_canonical, total_count);
-        typename decltype(terms)::Lent lent(r);
+        typename decltype(terms)::Lent lent = r;
+        float jacobian = 1.0f;
         float here = 0.0f;
         float mis_weight = 0.0f;
         if (r.has_sample()) {
-            here = targets.lend(j, lent, r, there);
+            here = targets.lend(j, lent, there, jacobian);
             // Under a shift, the canonical technique's density carried to input i's domain is
             // p-hat_q(T(y_i)) |dT/dy_i| (Lin et al. 2022, Eq. 5.10).
             const float own = count * terms.own(r, there);
-            mis_weight =
-                pair_weight * safe_divide(own, own + canonical_share * here * lent.jacobian);
+            mis_weight = pair_weight * safe_divide(own, own + canonical_share * here * jacobian);
         }
-        result.merge_with_mis(lent.of(r), here, mis_weight, next_float(rng));
+        result.merge_with_mis(lent, here, mis_weight, next_float(rng));
         if (canonical.has_sample()) {
             const float canonical_own = canonical_share * canonical.target_value;
             canonical_mis += pair_weight *
@@ -261,10 +263,12 @@ requires ReuseInputs<Inputs, Sample, S> && TargetFunction<Target, Sample, S> &&
     const Reservoir<Sample> canonical =
         receiver_reservoir.is_well_formed() ? receiver_reservoir : Reservoir<Sample>{};
 #if !RESTIR_STREAMED_REUSE
-    if constexpr (!detail::packed_inputs<Inputs> || detail::streamed_inputs<Inputs>)
-        return combine_with<Mode, Sample>(
-            canonical, surface, detail::pack_inputs<Sample, S>(inputs), params, bridge, rng);
-    else
+    if constexpr (ReuseSetTraits<Inputs>::streamed) {
+        detail::UnsetArray<detail::LentInputOf<Sample, S, Inputs>, max_reuse_inputs - 1u> room;
+        return combine_with<Mode, Sample>(canonical, surface,
+                                          detail::gather_inputs<Sample, S>(inputs, room.items),
+                                          params, bridge, rng);
+    } else
 #endif
         if constexpr (Mode == BiasCorrection::none)
         return combine_one_over_m(canonical, surface, inputs, params, bridge, rng);

@@ -406,17 +406,21 @@ private:
                  NeighbourDraw draw, Rng& rng) const {
 #if !RESTIR_STREAMED_REUSE
         if constexpr (surfaces_in_array<Surfaces, S>) {
-            detail::GatheredInputs<Sample, S> gathered;
-            gathered.count = 0u;
-            neighbours(pixel, input, bridge, draw,
-                       [&](PixelCoord p) { gathered.add(&input[p], &surfaces[p]); });
-            return spatial(pixel, input, gathered, bridge, rng);
+            detail::UnsetArray<ReuseInput<Sample, S>, max_reuse_inputs - 1u> room;
+            ReuseInput<Sample, S>* gathered = room.items;
+            ReuseInputSpan<Sample, S> lending{gathered, 0u, no_candidate_cap, true};
+            neighbours(pixel, input, bridge, draw, [&](PixelCoord p) {
+                gathered[lending.count++] = {&input[p], &surfaces[p]};
+            });
+            return spatial(pixel, input, lending, bridge, rng);
         }
 #endif
         return spatial(pixel, input, neighbours(pixel, input, bridge, draw), bridge, rng);
     }
 
-    using LoadedInput = detail::LoadedHistoryInput<Sample, S, history_has_surfaces>;
+    using LoadedInput =
+        detail::LoadedHistoryInput<Sample, S,
+                                   std::conditional_t<history_has_surfaces, S, const S*>>;
 
     RESTIR_HOST_DEVICE constexpr std::uint32_t reuse_step_count() const noexcept {
         return (has_history() ? 1u : 0u) + params.spatial_passes;

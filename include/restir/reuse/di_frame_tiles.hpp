@@ -192,19 +192,14 @@ struct TileReuse {
     void ask(std::uint32_t k, const Reservoir<Sample>& canonical, const Inputs& inputs) {
         MisAnswers<Sample, S>& a = answers[k];
         a.sample = &canonical.sample;
-        const std::uint32_t slots = inputs.size();
-        for (std::uint32_t i = 0; i < slots && a.count + 1u < max_reuse_inputs; ++i) {
-            const auto input = lent_input<Sample, S>(inputs[i]);
-            if constexpr (!packed_inputs<Inputs>) // a packed set holds lending inputs only
-                if (input.reservoir == nullptr || !input.reservoir->is_well_formed())
-                    continue;
-            const S& there = lent_surface(input);
-            const float t = static_cast<float>(bridge.target(canonical.sample, there));
-            a.surfaces[a.count] = &there;
-            a.target[a.count] = t;
-            a.query[a.count++] =
-                t > 0.0f ? queries.add(canonical.sample, there) : MisAnswers<Sample, S>::none;
-        }
+        for_each_input<Sample, S>(
+            inputs, [&](std::uint32_t, const Reservoir<Sample>&, const S& there) {
+                const float t = static_cast<float>(bridge.target(canonical.sample, there));
+                a.surfaces[a.count] = &there;
+                a.target[a.count] = t;
+                a.query[a.count++] =
+                    t > 0.0f ? queries.add(canonical.sample, there) : MisAnswers<Sample, S>::none;
+            });
     }
     /// The bridge for pixel `k`'s combination.
     auto answered(std::uint32_t k) const {
@@ -330,7 +325,7 @@ struct TileStage<DiStage::temporal> {
             else
                 lent = found[k];
             if (reuse.asks && input[pixel].has_sample())
-                reuse.ask(k, input[pixel], SingleReuseInput<Sample, S>{lent});
+                reuse.ask(k, input[pixel], ReuseInputSpan<Sample, S>{&lent, 1u});
         });
         reuse.queries.trace(bridge.reuse.visibility);
         tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t k) {
@@ -359,7 +354,9 @@ struct TileStage<DiStage::spatial> {
         Rng rngs[max_tile_pixels];
         NeighbourDraw draws[max_tile_pixels];
         bool combines[max_tile_pixels];
-        GatheredInputs<Sample, S> gathered[max_tile_pixels];
+        // The lending neighbours of each pixel, gathered as they are found.
+        detail::UnsetArray<ReuseInput<Sample, S>, max_tile_pixels*(max_reuse_inputs - 1u)> room;
+        ReuseInputSpan<Sample, S> lending[max_tile_pixels];
         tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t k) {
             rngs[k] = bridge.rng_for(pixel, RngStream::spatial + step.pass);
             combines[k] = frame.combines_at(pixel);
@@ -376,20 +373,22 @@ struct TileStage<DiStage::spatial> {
                 prefetch_spatial_neighbours(tile.pixel(next), input, frame.surfaces,
                                             frame.params.spatial, frame.offset_table(),
                                             draws[next]);
-            gathered[k].count = 0u;
+            ReuseInput<Sample, S>* gathered = room.items + k * (max_reuse_inputs - 1u);
+            lending[k] = {gathered, 0u, no_candidate_cap, true};
             if (!combines[k])
                 return;
-            // The lending neighbours gathered as they are found, in the streamed set's order.
-            frame.neighbours(pixel, input, bridge.reuse, draws[k],
-                             [&](PixelCoord p) { gathered[k].add(&input[p], &frame.surfaces[p]); });
+            // In the streamed set's order.
+            frame.neighbours(pixel, input, bridge.reuse, draws[k], [&](PixelCoord p) {
+                gathered[lending[k].count++] = {&input[p], &frame.surfaces[p]};
+            });
             if (reuse.asks && input[pixel].has_sample())
-                reuse.ask(k, input[pixel], gathered[k]);
+                reuse.ask(k, input[pixel], lending[k]);
         });
         reuse.queries.trace(bridge.reuse.visibility);
         const ImageView<Reservoir<Sample>> output = buffers[step.output];
         tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t k) {
             output[pixel] =
-                combines[k] ? frame.spatial(pixel, input, gathered[k], reuse.answered(k), rngs[k])
+                combines[k] ? frame.spatial(pixel, input, lending[k], reuse.answered(k), rngs[k])
                             : input[pixel];
         });
         retest_tile(frame, step, tile, buffers, bridge);

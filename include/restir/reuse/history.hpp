@@ -12,6 +12,7 @@
 
 #include <concepts>
 #include <cstdint>
+#include <type_traits>
 
 namespace restir {
 
@@ -38,28 +39,24 @@ concept HistorySurfaces = requires(const H& h, PixelCoord p) {
 
 namespace detail {
 
-/// A history reservoir loaded by value, with the previous-frame surface it belongs to: a
-/// pointer into the previous G-buffer, or, when the history decodes surfaces itself
-/// (`OwnsSurface`), a copy. What `DiFrame::temporal_input` returns for a `ReservoirHistory`.
-template <class Sample, class SurfaceT, bool OwnsSurface = false>
+/// A history reservoir loaded by value, with the previous-frame surface it belongs to: `Held`
+/// a pointer into the previous G-buffer (`const SurfaceT*`), or a copy (`SurfaceT`) when the
+/// history decodes surfaces itself. What `DiFrame::temporal_input` returns for a
+/// `ReservoirHistory`.
+template <class Sample, class SurfaceT, class Held = const SurfaceT*>
 struct LoadedHistoryInput {
     Reservoir<Sample> reservoir{};
-    const SurfaceT* surface = nullptr; ///< Null when the pixel lends nothing.
+    Held surface{};
+    /// Whether the pixel lends its reservoir (with a pointer, also only where it is not null).
+    bool lends = std::is_pointer_v<Held>;
     /// The input as reuse visits it (null pointers when it lends nothing).
     RESTIR_HOST_DEVICE constexpr ReuseInput<Sample, SurfaceT> lending() const noexcept {
-        return surface != nullptr ? ReuseInput<Sample, SurfaceT>{&reservoir, surface}
-                                  : ReuseInput<Sample, SurfaceT>{};
-    }
-};
-
-template <class Sample, class SurfaceT>
-struct LoadedHistoryInput<Sample, SurfaceT, true> {
-    Reservoir<Sample> reservoir{};
-    SurfaceT surface{};
-    bool lends = false;
-    RESTIR_HOST_DEVICE constexpr ReuseInput<Sample, SurfaceT> lending() const noexcept {
-        return lends ? ReuseInput<Sample, SurfaceT>{&reservoir, &surface}
-                     : ReuseInput<Sample, SurfaceT>{};
+        if constexpr (std::is_pointer_v<Held>)
+            return lends && surface != nullptr ? ReuseInput<Sample, SurfaceT>{&reservoir, surface}
+                                               : ReuseInput<Sample, SurfaceT>{};
+        else
+            return lends ? ReuseInput<Sample, SurfaceT>{&reservoir, &surface}
+                         : ReuseInput<Sample, SurfaceT>{};
     }
 };
 
@@ -69,7 +66,8 @@ struct LoadedHistoryInput<Sample, SurfaceT, true> {
 template <class Sample, class SurfaceT, bool OwnsSurface = false>
 using LoadedHistoryInput [[deprecated(
     "internal now: run_di_frame loads the history, and restir::ReuseInput lends one reservoir")]] =
-    detail::LoadedHistoryInput<Sample, SurfaceT, OwnsSurface>;
+    detail::LoadedHistoryInput<Sample, SurfaceT,
+                               std::conditional_t<OwnsSurface, SurfaceT, const SurfaceT*>>;
 
 /// The light-id translation of a history whose light set did not change: every id stays.
 struct SameLightIds {

@@ -17,47 +17,40 @@
 
 namespace restir {
 
-/// A reservoir borrowed from another pixel or frame, with the surface it was computed for.
-/// Both pointers refer into the caller's buffers; null when there is nothing to borrow.
-/// (Two pointers, so that functions return it in registers.)
-template <class Sample, class SurfaceT>
+/// A reservoir borrowed from another pixel or frame, with the surface it was computed for:
+/// `Held` is `const SurfaceT*` (a pointer into the caller's buffer, the default) or `SurfaceT`
+/// (a copy, for surfaces that a `SurfaceDecoder` decodes). `reservoir` is null when there is
+/// nothing to borrow. (Small, so that functions return it in registers.)
+template <class Sample, class SurfaceT, class Held = const SurfaceT*>
 struct ReuseInput {
     const Reservoir<Sample>* reservoir = nullptr;
-    const SurfaceT* surface = nullptr;
+    Held surface{};
 };
 
-/// A reservoir borrowed with a copy of its surface, for sets that decode surfaces
-/// (`SurfaceDecoder`, reuse/surface_source.hpp) rather than point into an array of them.
-/// `reservoir` is null when there is nothing to borrow.
+/// A reservoir borrowed with a copy of its surface (reuse/surface_source.hpp).
 template <class Sample, class SurfaceT>
-struct DecodedReuseInput {
-    const Reservoir<Sample>* reservoir = nullptr;
-    SurfaceT surface{};
-};
+using DecodedReuseInput = ReuseInput<Sample, SurfaceT, SurfaceT>;
 
-/// An input as reuse visits it: a `DecodedReuseInput` as it is, anything else as the
-/// `ReuseInput` it converts to.
-template <class Sample, class SurfaceT>
-RESTIR_HOST_DEVICE constexpr DecodedReuseInput<Sample, SurfaceT>
-lent_input(const DecodedReuseInput<Sample, SurfaceT>& input) {
+/// An input as reuse visits it: a `ReuseInput` as it is, anything else as the `ReuseInput` it
+/// converts to.
+template <class Sample, class SurfaceT, class Held>
+RESTIR_HOST_DEVICE constexpr ReuseInput<Sample, SurfaceT, Held>
+lent_input(const ReuseInput<Sample, SurfaceT, Held>& input) {
     return input;
 }
-template <class Sample, class SurfaceT>
-RESTIR_HOST_DEVICE constexpr ReuseInput<Sample, SurfaceT>
-lent_input(const ReuseInput<Sample, SurfaceT>& input) noexcept {
+template <class Sample, class SurfaceT, class Input>
+RESTIR_HOST_DEVICE constexpr ReuseInput<Sample, SurfaceT> lent_input(const Input& input) {
     return input;
 }
 
 /// The surface that an input lends (which must lend a reservoir).
-template <class Sample, class SurfaceT>
+template <class Sample, class SurfaceT, class Held>
 RESTIR_HOST_DEVICE constexpr const SurfaceT&
-lent_surface(const ReuseInput<Sample, SurfaceT>& input) noexcept {
-    return *input.surface;
-}
-template <class Sample, class SurfaceT>
-RESTIR_HOST_DEVICE constexpr const SurfaceT&
-lent_surface(const DecodedReuseInput<Sample, SurfaceT>& input) noexcept {
-    return input.surface;
+lent_surface(const ReuseInput<Sample, SurfaceT, Held>& input) noexcept {
+    if constexpr (std::is_pointer_v<Held>)
+        return *input.surface;
+    else
+        return input.surface;
 }
 
 /// Largest number of reservoirs one reuse step combines (the canonical one included).
@@ -67,12 +60,11 @@ inline constexpr std::uint32_t max_reuse_inputs = 16u;
 inline constexpr std::uint32_t no_candidate_cap = 0xffffffffu;
 
 /// Borrowed reservoirs that a reuse step visits one at a time, as many times as it needs:
-/// `inputs.size()` slots, `inputs[i]` the input of slot i (a `ReuseInput`, or a
-/// `DecodedReuseInput` with a decoded surface; a null reservoir when the slot lends nothing),
-/// the same input at every visit. Sets compute their inputs on demand (the spatial
-/// neighbours from their offsets and a validity bit mask), so that no step copies its inputs
-/// into an array: a GPU thread keeps them in registers. A set with a member `candidate_cap`
-/// lends each reservoir with its M capped there (the temporal history cap; W unchanged).
+/// `inputs.size()` slots, `inputs[i]` the input of slot i (a `ReuseInput`, with a pointer to
+/// its surface or a copy; a null reservoir when the slot lends nothing), the same input at
+/// every visit. The library's sets are `ReuseInputSpan` (an array) and `SpatialNeighbours`
+/// (computed on demand, so that a GPU thread keeps them in registers); what reuse knows of a
+/// set beyond this is in `ReuseSetTraits`.
 template <class T, class Sample, class SurfaceT>
 concept ReuseInputs = requires(const T& inputs, std::uint32_t i) {
     { inputs.size() } -> std::convertible_to<std::uint32_t>;
@@ -80,23 +72,35 @@ concept ReuseInputs = requires(const T& inputs, std::uint32_t i) {
         std::same_as<std::remove_cvref_t<decltype(inputs[i])>, DecodedReuseInput<Sample, SurfaceT>>;
 };
 
-/// Inputs already gathered into an array (for renderers that collect them ahead of a pass).
-template <class Sample, class SurfaceT>
+/// Inputs in an array: the caller's, or the one that host code gathers a streamed set into.
+/// `candidate_cap` caps the M of every reservoir lent (W unchanged: the temporal history cap);
+/// `all_lend` says that every slot lends a well-formed reservoir, so that reuse skips the checks.
+template <class Sample, class SurfaceT, class Held = const SurfaceT*>
 struct ReuseInputSpan {
-    const ReuseInput<Sample, SurfaceT>* inputs = nullptr;
+    const ReuseInput<Sample, SurfaceT, Held>* inputs = nullptr;
     std::uint32_t count = 0u;
+    std::uint32_t candidate_cap = no_candidate_cap;
+    bool all_lend = false;
     RESTIR_HOST_DEVICE constexpr std::uint32_t size() const noexcept { return count; }
-    RESTIR_HOST_DEVICE constexpr ReuseInput<Sample, SurfaceT> operator[](std::uint32_t i) const {
+    RESTIR_HOST_DEVICE constexpr const ReuseInput<Sample, SurfaceT, Held>&
+    operator[](std::uint32_t i) const {
         return inputs[i];
     }
 };
 
 namespace detail {
+/// Room for `N` values that a pass writes before it reads them, left unset: a pass that gathers
+/// up to 15 inputs a pixel would otherwise clear them all first.
+template <class T, std::uint32_t N>
+union UnsetArray {
+    T items[N];
+    RESTIR_HOST_DEVICE UnsetArray() {}
+};
 
-/// One input (temporal reuse), its M capped at `candidate_cap`.
+/// One input, its M capped at `candidate_cap`: the set of temporal reuse before 0.2, kept for
+/// its deprecated public name (`ReuseInputSpan` of one input replaces it).
 template <class Sample, class SurfaceT>
 struct SingleReuseInput {
-    static constexpr std::uint32_t capacity = 1u;
     ReuseInput<Sample, SurfaceT> input{};
     std::uint32_t candidate_cap = no_candidate_cap;
     RESTIR_HOST_DEVICE constexpr std::uint32_t size() const noexcept { return 1u; }
@@ -105,37 +109,72 @@ struct SingleReuseInput {
     }
 };
 
-/// The inputs of a spatial pass that lend, gathered once in order as they are found (host code): a
-/// `ReuseInputs` set whose entries all take part (`packed`). Entries past `count` stay
-/// uninitialised (zeroing 15 inputs per pixel is work a pass does not need).
-template <class Sample, class S>
-struct GatheredInputs {
-    static constexpr bool packed = true;
-    const Reservoir<Sample>* reservoirs[max_reuse_inputs - 1u];
-    const S* surfaces[max_reuse_inputs - 1u];
-    std::uint32_t count;
-
-    /// Adds an input that lends (`lends_reservoir`: well-formed, similar); beyond
-    /// max_reuse_inputs - 1 inputs, none.
-    RESTIR_HOST_DEVICE void add(const Reservoir<Sample>* reservoir, const S* surface) {
-        RESTIR_ASSERT(reservoir->is_well_formed());
-        if (count + 1u < max_reuse_inputs) {
-            reservoirs[count] = reservoir;
-            surfaces[count++] = surface;
-        }
-    }
-    RESTIR_HOST_DEVICE std::uint32_t size() const { return count; }
-    RESTIR_HOST_DEVICE ReuseInput<Sample, S> operator[](std::uint32_t i) const {
-        return {reservoirs[i], surfaces[i]};
-    }
-};
-
+template <class Inputs>
+[[deprecated("specialise restir::ReuseSetTraits for a set instead of giving it members "
+             "packed and candidate_cap")]] RESTIR_HOST_DEVICE constexpr bool
+set_members_read() noexcept {
+    return true;
+}
 } // namespace detail
 
 /// The one-input set's name before 0.2, when it was public.
 template <class Sample, class SurfaceT>
 using SingleReuseInput [[deprecated("pass a ReuseInputSpan of one input")]] =
     detail::SingleReuseInput<Sample, SurfaceT>;
+
+/// What reuse knows of a `ReuseInputs` set beyond its slots. This primary template describes an
+/// application's set: slots that may lend nothing, visited as they are, M uncapped. Specialise
+/// it for a set of your own that says more; `ReuseInputSpan` and `SpatialNeighbours` have
+/// theirs. (Sets that declare members `packed` or `candidate_cap`, the form of 0.2, are still
+/// read, with a deprecation warning; to be removed in 0.4.)
+template <class Inputs>
+struct ReuseSetTraits {
+    /// Whether every slot of `inputs` lends a well-formed reservoir (reuse then skips the
+    /// checks of each).
+    RESTIR_HOST_DEVICE static constexpr bool all_lend(const Inputs& inputs) noexcept {
+        static_cast<void>(inputs);
+        if constexpr (requires { requires Inputs::packed; })
+            return detail::set_members_read<Inputs>();
+        else
+            return false;
+    }
+    /// The cap on the M of every reservoir lent.
+    RESTIR_HOST_DEVICE static constexpr std::uint32_t candidate_cap(const Inputs& inputs) noexcept {
+        if constexpr (requires { inputs.candidate_cap; })
+            return detail::set_members_read<Inputs>() ? inputs.candidate_cap : no_candidate_cap;
+        else
+            return no_candidate_cap;
+    }
+    /// Whether a visit computes its input anew (host code gathers such a set into a
+    /// `ReuseInputSpan` once rather than at every visit).
+    static constexpr bool streamed = false;
+};
+
+template <class Sample, class SurfaceT, class Held>
+struct ReuseSetTraits<ReuseInputSpan<Sample, SurfaceT, Held>> {
+    RESTIR_HOST_DEVICE static constexpr bool
+    all_lend(const ReuseInputSpan<Sample, SurfaceT, Held>& inputs) noexcept {
+        return inputs.all_lend;
+    }
+    RESTIR_HOST_DEVICE static constexpr std::uint32_t
+    candidate_cap(const ReuseInputSpan<Sample, SurfaceT, Held>& inputs) noexcept {
+        return inputs.candidate_cap;
+    }
+    static constexpr bool streamed = false;
+};
+
+template <class Sample, class SurfaceT>
+struct ReuseSetTraits<detail::SingleReuseInput<Sample, SurfaceT>> {
+    RESTIR_HOST_DEVICE static constexpr bool
+    all_lend(const detail::SingleReuseInput<Sample, SurfaceT>&) noexcept {
+        return false;
+    }
+    RESTIR_HOST_DEVICE static constexpr std::uint32_t
+    candidate_cap(const detail::SingleReuseInput<Sample, SurfaceT>& inputs) noexcept {
+        return inputs.candidate_cap;
+    }
+    static constexpr bool streamed = false;
+};
 
 namespace detail {
 /// `r.is_well_formed()`. On a GPU, where the three weights (W-sum, p-hat, W) start an aligned

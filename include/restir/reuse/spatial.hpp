@@ -164,21 +164,27 @@ prefetch_spatial_neighbours(PixelCoord centre, ImageView<const Reservoir<Sample>
 #endif
 }
 
-/// The neighbours of a pixel that a spatial pass reuses, as a `ReuseInputs` set for the bias
-/// corrections: neighbour i of the pass (`spatial_neighbour`) lends its reservoir unless it is
-/// the pixel itself, outside the image, a dissimilar surface or non-finite (skipped, not
-/// replaced). The set is streamed: its slots are the neighbours that lend (bit i of `lends`),
-/// in order, and a visit recomputes the neighbour from the pass's start and rotation, so that
-/// no array of inputs is kept and a GPU thread holds the set in registers. The search checked
-/// each one, so the set is `packed` and the bias corrections do not read its reservoirs' weights
-/// again. (Host code gathers the inputs into an array once per combine, `combine_with`.) With
-/// surfaces from a `SurfaceDecoder` the inputs are `DecodedReuseInput`s, and a visit decodes
-/// the neighbour's surface.
+/// The neighbours of a pixel that a reuse pass borrows from, as a `ReuseInputs` set for the bias
+/// corrections: first the `centre` pixel where it lends (bit `centre_slot` of `lends`: the history
+/// pixel of fused spatiotemporal reuse, whose neighbourhood is searched), then neighbour i of the
+/// pass (`spatial_neighbour`) where it lends its reservoir: not the centre itself, inside the
+/// image, a similar surface, finite (bit i of `lends`; the others are skipped, not replaced). The
+/// set is streamed: a visit recomputes the neighbour from the pass's start and rotation, so that
+/// no array of inputs is kept and a GPU thread holds the set in registers (host code gathers the
+/// set into a `ReuseInputSpan` once per combination). Every slot lends a well-formed reservoir,
+/// so the bias corrections do not check them again. With surfaces from a `SurfaceDecoder` the
+/// inputs are `DecodedReuseInput`s, and a visit decodes the neighbour's surface.
 template <class Sample, class S, class Surfaces = ImageView<const S>>
 struct SpatialNeighbours {
     /// Whether the surfaces are viewed in an array (inputs point into it).
     static constexpr bool in_array = surfaces_in_array<Surfaces, S>;
     using Input = std::conditional_t<in_array, ReuseInput<Sample, S>, DecodedReuseInput<Sample, S>>;
+    /// The bit of `lends` that says that the centre pixel lends (first).
+    static constexpr std::uint32_t centre_slot = 1u << 31;
+    /// 0.2's names of what `ReuseSetTraits` says of this set; to be removed in 0.4.
+    [[deprecated("use restir::ReuseSetTraits<Set>::all_lend")]] static constexpr bool packed = true;
+    [[deprecated("use restir::ReuseSetTraits<Set>::streamed")]] static constexpr bool streamed =
+        true;
 
     PixelCoord centre{};
     std::uint32_t start = 0u;
@@ -187,30 +193,44 @@ struct SpatialNeighbours {
     const NeighbourOffsets* offsets = nullptr;
     ImageView<const Reservoir<Sample>> reservoirs{};
     Surfaces surfaces{};
-    std::uint32_t count = 0u;                       ///< The neighbours tried.
-    std::uint32_t lends = 0u;                       ///< Bit i: neighbour i lends its reservoir.
-    std::uint32_t candidate_cap = no_candidate_cap; ///< Caps the M each neighbour lends.
-
-    /// Every slot lends a well-formed reservoir (`lends_reservoir` held for it).
-    static constexpr bool packed = true;
-    /// Visiting a slot recomputes it (host code gathers the slots first).
-    static constexpr bool streamed = true;
+    std::uint32_t count = 0u; ///< The neighbours tried.
+    /// Bit i: neighbour i lends its reservoir; bit `centre_slot`: the centre does.
+    std::uint32_t lends = 0u;
+    std::uint32_t candidate_cap = no_candidate_cap; ///< Caps the M each input lends.
 
     /// Neighbour i's pixel.
     RESTIR_HOST_DEVICE constexpr PixelCoord pixel(std::uint32_t i) const {
         return spatial_neighbour(centre, start, i, radius, *offsets, rotation);
     }
-    /// The neighbours that lend.
+    /// The inputs that lend.
     RESTIR_HOST_DEVICE constexpr std::uint32_t size() const noexcept { return bit_count(lends); }
-    /// The j-th neighbour that lends.
+    /// The j-th input that lends.
     RESTIR_HOST_DEVICE constexpr Input operator[](std::uint32_t j) const {
         RESTIR_ASSERT(j < size());
-        const PixelCoord p = pixel(nth_set_bit(lends, j));
+        PixelCoord p = centre;
+        if ((lends & centre_slot) == 0u)
+            p = pixel(nth_set_bit(lends, j));
+        else if (j > 0u)
+            p = pixel(nth_set_bit(lends, j - 1u));
         if constexpr (in_array)
             return {&reservoirs[p], &surfaces[p]};
         else
             return {&reservoirs[p], surfaces.surface(p)};
     }
+};
+
+/// The spatial neighbours lend only well-formed reservoirs, computed at each visit.
+template <class Sample, class S, class Surfaces>
+struct ReuseSetTraits<SpatialNeighbours<Sample, S, Surfaces>> {
+    RESTIR_HOST_DEVICE static constexpr bool
+    all_lend(const SpatialNeighbours<Sample, S, Surfaces>&) noexcept {
+        return true;
+    }
+    RESTIR_HOST_DEVICE static constexpr std::uint32_t
+    candidate_cap(const SpatialNeighbours<Sample, S, Surfaces>& inputs) noexcept {
+        return inputs.candidate_cap;
+    }
+    static constexpr bool streamed = true;
 };
 
 /// What `find_spatial_neighbours` tells about each neighbour that lends: nothing.
@@ -304,12 +324,14 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
                           reuse, bridge, rng);
 #else
     // Gathered as they are found: no neighbour is computed twice.
-    detail::GatheredInputs<Sample, S> gathered;
-    gathered.count = 0u;
+    detail::UnsetArray<ReuseInput<Sample, S>, max_reuse_inputs - 1u> room;
+    ReuseInput<Sample, S>* gathered = room.items;
+    ReuseInputSpan<Sample, S> lending{gathered, 0u, no_candidate_cap, true};
     find_spatial_neighbours(pixel, surface, reservoirs, surfaces, params, offsets,
-                            bridge.material_test, rng,
-                            [&](PixelCoord p) { gathered.add(&reservoirs[p], &surfaces[p]); });
-    return combine_inputs(own, surface, gathered, reuse, bridge, rng);
+                            bridge.material_test, rng, [&](PixelCoord p) {
+                                gathered[lending.count++] = {&reservoirs[p], &surfaces[p]};
+                            });
+    return combine_inputs(own, surface, lending, reuse, bridge, rng);
 #endif
 }
 

@@ -21,25 +21,6 @@
 
 namespace restir {
 
-namespace detail {
-
-/// The inputs of fused reuse, streamed: slot 0 the history pixel (null when unusable), then
-/// the previous-frame neighbours around it; every one capped at `candidate_cap`.
-template <class Sample, class S>
-struct HistoryAndNeighbours {
-    ReuseInput<Sample, S> history{};
-    SpatialNeighbours<Sample, S> neighbours{};
-    std::uint32_t candidate_cap = no_candidate_cap; ///< Caps every input's M.
-    RESTIR_HOST_DEVICE constexpr std::uint32_t size() const noexcept {
-        return 1u + neighbours.size();
-    }
-    RESTIR_HOST_DEVICE constexpr ReuseInput<Sample, S> operator[](std::uint32_t i) const {
-        return i == 0u ? history : neighbours[i - 1u];
-    }
-};
-
-} // namespace detail
-
 /// Fused spatiotemporal resampling of one pixel in frame `frame_index`. `temporal` supplies the
 /// similarity, history cap and permutation; `spatial` the neighbour count and radius (its
 /// similarity is the temporal one's); `reuse` the bias correction. Every previous-frame
@@ -73,11 +54,14 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
     neighbourhood.min_roughness = spatial.min_roughness;
     neighbourhood.neighbour_count =
         min_of(spatial.neighbour_count, max_reuse_inputs - 1u - history_count);
-    const detail::HistoryAndNeighbours<Sample, S> inputs{
-        history,
+    // The history pixel (the search's centre) first, then the previous-frame neighbours around
+    // it, each capped.
+    SpatialNeighbours<Sample, S> inputs =
         find_spatial_neighbours(previous, surface, previous_reservoirs, previous_surfaces,
-                                neighbourhood, offsets, bridge.material_test, rng),
-        history_cap(current.candidate_count, temporal)};
+                                neighbourhood, offsets, bridge.material_test, rng);
+    if (history.reservoir != nullptr)
+        inputs.lends |= SpatialNeighbours<Sample, S>::centre_slot;
+    inputs.candidate_cap = history_cap(current.candidate_count, temporal);
     return combine_inputs(current, surface, inputs, reuse, bridge, rng);
 }
 

@@ -111,8 +111,8 @@ requires TargetFunction<Target, Sample, S> && VisibilityFunction<Visibility, Sam
         return current;
     return combine_inputs(
         current, surface,
-        detail::SingleReuseInput<Sample, S>{input, history_cap(current.candidate_count, params)},
-        reuse, bridge, rng);
+        ReuseInputSpan<Sample, S>{&input, 1u, history_cap(current.candidate_count, params)}, reuse,
+        bridge, rng);
 }
 
 /// Temporal resampling of one pixel. `current` is the pixel's finalised reservoir for this
