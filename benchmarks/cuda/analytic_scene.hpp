@@ -142,6 +142,13 @@ struct Emitters {
         s.is_delta = false;
         return s;
     }
+    /// The point `position` of emitter `id` (restir::LightPointLookup): one normal, radiance and
+    /// density over the whole triangle.
+    RESTIR_HOST_DEVICE restir::LightSample point_at(std::uint32_t id, glm::vec3 position) const {
+        restir::LightSample s = sample_point(id, glm::vec2(0.0f));
+        s.position = position;
+        return s;
+    }
 };
 using Lights = restir::UnifiedLightSet<Emitters>;
 

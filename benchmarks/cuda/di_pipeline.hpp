@@ -30,19 +30,7 @@ using Packed = restir::PackedPointReservoir;
 using CameraReprojection = common::CameraReprojection<Texel>;
 
 /// A stored light point back as its sample (exact here: flat emitters of one radiance, VPLs).
-struct LightPointDecoder {
-    Lights lights;
-    restir::Falloff falloff;
-    RESTIR_HOST_DEVICE restir::LightPointSample operator()(std::uint32_t id,
-                                                           glm::vec3 position) const {
-        if (id >= lights.light_count())
-            return {.light_id = restir::removed_light};
-        restir::LightPointSample s =
-            restir::make_light_point_sample(id, lights.sample_point(id, glm::vec2(0.0f)), falloff);
-        s.position = position;
-        return s;
-    }
-};
+using LightPointDecoder = restir::LightSetDecoder<Lights>;
 
 /// This frame's G-buffer as the recipe reads it: a texel whole, in two 16-byte loads through
 /// the read-only cache on a GPU (a `SurfaceDecoder`). Reuse gathers neighbours at random, so

@@ -21,18 +21,6 @@ namespace pt {
 /// (one id, with one), then this set's VPLs.
 using Unified = restir::UnifiedLightSet<SceneEmitters>;
 
-/// Light `id`'s point at `position` as sampling by area gives it (its normal, radiance and
-/// density there): how a stored point is decoded (restir_di.cpp, --packed-history). Emitters'
-/// points from SceneEmitters::point_at; a VPL is one point.
-inline restir::LightSample light_point_at(const Unified& lights, std::uint32_t id,
-                                          glm::vec3 position) {
-    if (id < lights.emitter_count())
-        return lights.emitters->point_at(id, position);
-    restir::LightSample s = lights.sample_point(id, glm::vec2(0.0f));
-    s.position = position;
-    return s;
-}
-
 /// The emitters and the VPL set of this frame, with power tables over all of them, the
 /// emitters alone and the VPLs alone.
 class LightSet {

@@ -47,24 +47,12 @@ struct RestirDi::Stages {
         scratch.resize(pixels);
     }
 
-    // A stored light point back as the sample it was made from: every light of the renderer
-    // (emitter triangles and light shapes of one radiance, sampled by area; VPLs) has one
-    // radiance and pdf over its whole surface and a normal its position gives
-    // (`light_point_at`), so its id and the position determine the sample; the environment's
-    // "position" is its direction, whose radiance and pdf the map gives.
-    struct LightPointDecoder {
-        const Stages* im = nullptr;
-        restir::LightPointSample operator()(std::uint32_t id, glm::vec3 position) const {
-            if (id >= im->lights.light_count())
-                return {.light_id = restir::removed_light};
-            if (im->lights.is_environment(id))
-                return restir::make_light_point_sample(
-                    id, restir::environment_light_point(im->lights.environment, position),
-                    im->falloff);
-            return restir::make_light_point_sample(id, light_point_at(im->lights, id, position),
-                                                   im->falloff);
-        }
-    };
+    // A stored light point back as the sample it was made from (`restir::LightSetDecoder`):
+    // every light of the renderer (emitter triangles and light shapes of one radiance, sampled
+    // by area; VPLs) has one radiance and pdf over its whole surface and a normal its position
+    // gives (`SceneEmitters::point_at`), so its id and the position determine the sample; the
+    // environment's "position" is its direction, whose radiance and pdf the map gives.
+    using LightPointDecoder = restir::LightSetDecoder<Unified>;
     // The recipe with last frame's reservoirs viewed, or stored packed (--packed-history).
     using DiFrame = restir::DiFrame<restir::LightPointSample, GSurface, CameraReprojection>;
     using PackedDiFrame = restir::DiFrame<restir::LightPointSample, GSurface, CameraReprojection,
@@ -78,7 +66,7 @@ struct RestirDi::Stages {
         Frame f = frame_over<Frame>(gbuffer, previous_camera, settings, frame, history);
         if (f.previous_surfaces.data != nullptr) {
             if constexpr (Frame::loads_history)
-                f.history = {{stored_history.data(), w, h}, {this}};
+                f.history = {{stored_history.data(), w, h}, {lights, falloff}};
             else
                 f.history = {previous_reservoirs.data(), w, h};
         }

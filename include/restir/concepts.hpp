@@ -163,6 +163,18 @@ concept ReceiverLightDensity = ReceiverLightSet<L> &&
     { lights.point_pdf(id, point, from) } -> std::convertible_to<float>;
 };
 
+/// A light set that gives a light's point back from its position, so that a stored light point
+/// needs only its light id and position (`LightSetDecoder`, reuse/packed_reservoir.hpp).
+/// Required expression, besides those of `LightSet`, for a `glm::vec3 position`:
+///   `lights.point_at(id, position)` -> a LightPoint: light `id`'s point at `position` (one that
+///        `sample_point` returns) with the normal, radiance and area_pdf that `sample_point`
+///        gives it; for a distant light `position` is the direction.
+template <class L>
+concept LightPointLookup = LightSet<L> &&
+    requires(const L& lights, std::uint32_t id, glm::vec3 position) {
+    { lights.point_at(id, position) } -> LightPoint;
+};
+
 /// Visibility between two points. Required expression:
 ///   `query.occluded(from, to)` -> bool, true when anything blocks the open segment
 ///   (the caller offsets the end points off their surfaces).

@@ -198,3 +198,54 @@ TEST(UnifiedLightSet, RisOverEmittersAndTheSkyIsUnbiased) {
 }
 
 } // namespace
+
+namespace {
+
+// Flat rectangles of one radiance: a point's normal, radiance and density are the rectangle's
+// wherever it lies, so the position gives the point back (restir::LightPointLookup).
+struct FlatRectangles : RectangleLights {
+    restir::LightSample point_at(std::uint32_t id, glm::vec3 position) const {
+        restir::LightSample s = sample_point(id, glm::vec2(0.0f));
+        s.position = position;
+        return s;
+    }
+};
+static_assert(restir::LightPointLookup<FlatRectangles>);
+static_assert(restir::LightPointLookup<restir::UnifiedLightSet<FlatRectangles>>);
+static_assert(
+    restir::LightPointDecoder<restir::LightSetDecoder<restir::UnifiedLightSet<FlatRectangles>>>);
+
+// Every light's sample (emitters, the sky, VPLs) comes back from its id and position exactly,
+// through a packed history too; an id past the set is a removed light.
+TEST(UnifiedLightSet, PointsComeBackFromTheirPositions) {
+    const FlatRectangles emitters{two_rectangles()};
+    const std::vector<restir::Vpl> vpls = some_vpls();
+    const restir::EnvironmentMap sky = small_sky();
+    const restir::UnifiedLightSet<FlatRectangles> lights{
+        &emitters, vpls.data(), static_cast<std::uint32_t>(vpls.size()), sky.view()};
+    const restir::Falloff falloff{restir::FalloffKind::yuksel, 0.1f};
+    const restir::LightSetDecoder<restir::UnifiedLightSet<FlatRectangles>> decode{lights, falloff};
+    restir::Pcg32 rng(17u);
+    for (std::uint32_t id = 0; id < lights.light_count(); ++id) {
+        const glm::vec2 uv(next_float(rng), next_float(rng));
+        const restir::LightPointSample x =
+            restir::make_light_point_sample(id, lights.sample_point(id, uv), falloff);
+        restir::Reservoir<restir::LightPointSample> r;
+        r.stream(x, 2.0f, 0.5f, 0.0f);
+        r.finalize();
+        const restir::PackedPointReservoir stored = restir::pack_reservoir(r);
+        const restir::PackedPointHistory<decltype(decode)> history{{&stored, 1u, 1u}, decode};
+        for (const restir::LightPointSample& y :
+             {decode(id, x.position), history.load({0, 0}).sample}) {
+            EXPECT_EQ(y.light_id, id);
+            EXPECT_EQ(y.position, x.position) << "light " << id;
+            EXPECT_EQ(y.normal, x.normal) << "light " << id;
+            EXPECT_EQ(y.intensity, x.intensity) << "light " << id;
+            EXPECT_EQ(y.falloff, x.falloff) << "light " << id;
+            EXPECT_EQ(y.positional, x.positional) << "light " << id;
+        }
+    }
+    EXPECT_EQ(decode(lights.light_count(), glm::vec3(0.0f)).light_id, restir::removed_light);
+}
+
+} // namespace

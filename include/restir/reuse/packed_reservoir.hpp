@@ -4,6 +4,7 @@
 /// instead of 64, and histories of them with a light-id translation (or a light decoder).
 #pragma once
 
+#include "restir/concepts.hpp"
 #include "restir/config.hpp"
 #include "restir/core/math.hpp"
 #include "restir/core/reservoir.hpp"
@@ -123,6 +124,21 @@ pack_reservoir(const Reservoir<LightPointSample>& r) noexcept {
 template <class D>
 concept LightPointDecoder = requires(const D& decode, std::uint32_t id, glm::vec3 position) {
     { decode(id, position) } -> std::convertible_to<LightPointSample>;
+};
+
+/// The `LightPointDecoder` of a `LightPointLookup` light set (this frame's): light `id`'s point
+/// at `position` (`lights.point_at`) folded with `falloff`, the one the samples were made with;
+/// `removed_light` for an id past the set's lights. `Lights` is held by value: a view such as
+/// `UnifiedLightSet`, which a GPU kernel takes as it is.
+template <LightPointLookup Lights>
+struct LightSetDecoder {
+    Lights lights{};
+    Falloff falloff{};
+    RESTIR_HOST_DEVICE LightPointSample operator()(std::uint32_t id, glm::vec3 position) const {
+        if (id >= lights.light_count())
+            return {.light_id = removed_light};
+        return make_light_point_sample(id, lights.point_at(id, position), falloff);
+    }
 };
 
 /// The working reservoir of a stored one, its sample decoded by `decode` (only where it holds

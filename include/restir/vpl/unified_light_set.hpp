@@ -63,6 +63,17 @@ struct UnifiedLightSet {
         return vpl_light_sample(vpls[id - first_vpl()]);
     }
 
+    /// Light `id`'s point at `position` (`LightPointLookup`): the emitter's, the environment's
+    /// direction `position`, or the VPL. Only when the emitter set gives its own.
+    RESTIR_HOST_DEVICE LightSample
+    point_at(std::uint32_t id, glm::vec3 position) const requires LightPointLookup<Emitters> {
+        if (id < emitter_count())
+            return to_light_sample(emitters->point_at(id, position));
+        if (is_environment(id))
+            return environment_light_point(environment, position);
+        return vpl_light_sample(vpls[id - first_vpl()]);
+    }
+
     /// What `sample_point(id, uv)` reads, for a prefetch: the VPL, or the emitter's data where
     /// the emitter set tells it (`emitters->prefetch_address(id)`); else this object (an id
     /// out of range too).
