@@ -225,7 +225,7 @@ TEST(UnifiedLightSet, PointsComeBackFromTheirPositions) {
         &emitters, vpls.data(), static_cast<std::uint32_t>(vpls.size()), sky.view()};
     const restir::Falloff falloff{restir::FalloffKind::yuksel, 0.1f};
     const restir::LightSetDecoder<restir::UnifiedLightSet<FlatRectangles>> decode{lights, falloff};
-    restir::Pcg32 rng(17u);
+    restir::Pcg32 rng{17u};
     for (std::uint32_t id = 0; id < lights.light_count(); ++id) {
         const glm::vec2 uv(next_float(rng), next_float(rng));
         const restir::LightPointSample x =
