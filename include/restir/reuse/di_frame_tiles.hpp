@@ -355,7 +355,7 @@ struct TileStage<DiStage::spatial> {
         NeighbourDraw draws[max_tile_pixels];
         bool combines[max_tile_pixels];
         // The lending neighbours of each pixel, gathered as they are found.
-        detail::UnsetArray<ReuseInput<Sample, S>, max_tile_pixels*(max_reuse_inputs - 1u)> room;
+        detail::UnsetArray<ReuseInput<Sample, S>[max_reuse_inputs - 1u], max_tile_pixels> room;
         ReuseInputSpan<Sample, S> lending[max_tile_pixels];
         tile.for_each_pixel([&](PixelCoord pixel, std::uint32_t k) {
             rngs[k] = bridge.rng_for(pixel, RngStream::spatial + step.pass);
@@ -373,7 +373,7 @@ struct TileStage<DiStage::spatial> {
                 prefetch_spatial_neighbours(tile.pixel(next), input, frame.surfaces,
                                             frame.params.spatial, frame.offset_table(),
                                             draws[next]);
-            ReuseInput<Sample, S>* gathered = room.items + k * (max_reuse_inputs - 1u);
+            ReuseInput<Sample, S>* gathered = room.items[k];
             lending[k] = {gathered, 0u, no_candidate_cap, true};
             if (!combines[k])
                 return;
