@@ -97,12 +97,14 @@ void add_scene_options(CLI::App& app, RenderOptions& options) {
         ->default_str("restir");
     app.add_option("--gi", settings.gi,
                    "Indirect light: none, vpl (photon-mapped VPLs sampled with the emitters), "
-                   "path (path-traced bounces) or restir-gi (path samples reused over time and "
-                   "space with the reconnection shift; --method restir or reference)")
+                   "path (path-traced bounces), restir-gi (path samples reused over time and "
+                   "space with the reconnection shift) or restir-pt (whole paths reused with the "
+                   "hybrid shift); restir-gi and restir-pt: --method restir or reference")
         ->transform(names<GlobalIllumination>({{"none", GlobalIllumination::none},
                                                {"vpl", GlobalIllumination::vpl},
                                                {"path", GlobalIllumination::path},
-                                               {"restir-gi", GlobalIllumination::restir_gi}}))
+                                               {"restir-gi", GlobalIllumination::restir_gi},
+                                               {"restir-pt", GlobalIllumination::restir_pt}}))
         ->default_str("vpl");
     app.add_option("--spp", settings.spp, "Samples per pixel per frame (restir: 1)")
         ->check(CLI::Range(1u, 65536u));
@@ -355,16 +357,24 @@ void add_indirect_light_options(CLI::App& app, RenderSettings& settings,
                    "Yuksel attenuation radius of VPLs in scene units (0: 2 % of the scene size)")
         ->check(finite_number & CLI::Range(0.0f, 1e30f));
     app.add_option("--max-depth", settings.max_depth,
-                   "Path length limit (reference, gi path and restir-gi)")
+                   "Path length limit (reference, gi path, restir-gi and restir-pt)")
         ->check(CLI::Range(1u, 1024u));
     app.add_option("--gi-min-roughness", settings.reconnection.min_roughness,
                    "restir-gi: the roughness a sample point needs to be reused at another "
                    "visible point (Lambertian: 1; 0 reconnects every sample point, biased on "
                    "glossy ones)")
         ->check(finite_number & CLI::Range(0.0f, 1.0f));
+    app.add_option("--pt-min-roughness", settings.pt_reconnection.min_roughness,
+                   "restir-pt: the roughness both ends of a path's segment need for the hybrid "
+                   "shift to reconnect there (the vertices before it are replayed)")
+        ->check(finite_number & CLI::Range(0.0f, 1.0f));
+    app.add_option("--pt-min-distance", settings.pt_reconnection.min_distance,
+                   "restir-pt: the length, as a fraction of the scene's size, that a segment "
+                   "needs for the hybrid shift to reconnect there")
+        ->check(finite_number & CLI::Range(0.0f, 1.0f));
     app.add_flag("--indirect-only", settings.indirect_only,
-                 "Frames hold indirect light only (gi path or restir-gi, and the reference): "
-                 "to measure its error alone");
+                 "Frames hold indirect light only (gi path, restir-gi or restir-pt, and the "
+                 "reference): to measure its error alone");
 }
 
 // The checks that involve several flags, and the memory estimate.
@@ -385,13 +395,13 @@ void check_consistent(const RenderOptions& options) {
     if (settings.packed_history && settings.light_points == LightPoints::solid_angle)
         fail("--packed-history decodes light points as area samples: use --light-points area "
              "with it");
-    if (settings.gi == GlobalIllumination::restir_gi && settings.method != Method::restir &&
+    if (reuses_paths(settings.gi) && settings.method != Method::restir &&
         settings.method != Method::reference)
-        fail("--gi restir-gi reuses path samples across frames: use --method restir (or "
-             "reference for its converged image)");
-    if (settings.indirect_only && settings.gi != GlobalIllumination::path &&
-        settings.gi != GlobalIllumination::restir_gi)
-        fail("--indirect-only keeps the indirect light of --gi path or restir-gi: give one");
+        fail("--gi restir-gi and restir-pt reuse path samples across frames: use --method "
+             "restir (or reference for their converged image)");
+    if (settings.indirect_only && !traces_indirect_paths(settings.gi))
+        fail("--indirect-only keeps the indirect light of --gi path, restir-gi or restir-pt: "
+             "give one");
     if (settings.environment_sampling == EnvironmentSampling::bsdf && settings.bsdf_candidates == 0)
         fail("--env-sampling bsdf finds the environment through BSDF candidates only: give "
              "--bsdf-candidates N");

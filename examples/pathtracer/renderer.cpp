@@ -52,7 +52,7 @@ struct Renderer::Impl {
     Camera camera, previous_camera;
     PathTracer paths;
     std::optional<RestirDi> restir; // --method restir
-    std::optional<RestirGi> gi;     // --method restir --gi restir-gi
+    std::optional<RestirGi> gi;     // --method restir --gi restir-gi or restir-pt
     Accumulation accumulation;      // the last frame and the average
 
     // Builds the BVH, the emitters, the first VPL set and the frame buffers.
@@ -74,8 +74,9 @@ struct Renderer::Impl {
         if (settings.method == Method::restir)
             restir.emplace(settings, blocks, gbuffer, *candidates, light_set, paths, camera,
                            previous_camera);
-        if (settings.method == Method::restir && settings.gi == GlobalIllumination::restir_gi)
-            gi.emplace(settings, blocks, gbuffer, rays, paths, previous_camera, ray_offset);
+        if (settings.method == Method::restir && reuses_paths(settings.gi))
+            gi.emplace(settings, blocks, gbuffer, rays, paths, light_set, previous_camera,
+                       ray_offset);
     }
 
     // One uniformly chosen light sample as a one-candidate reservoir: W = 1 / p, so that
@@ -222,8 +223,7 @@ struct Renderer::Impl {
     // path's; plus the indirect light that --gi asks for.
     glm::vec3 independent_radiance(const GSurface& s, const Reservoir& picked,
                                    restir::Pcg32& rng) const {
-        const bool gi_path =
-            settings.gi == GlobalIllumination::path || settings.gi == GlobalIllumination::restir_gi;
+        const bool gi_path = traces_indirect_paths(settings.gi);
         if (settings.indirect_only)
             return gi_path ? paths.path_radiance(s, rng, false, true) : glm::vec3(0.0f);
         glm::vec3 color = emitted(scene, s);
@@ -256,11 +256,13 @@ std::uint64_t estimated_memory_bytes(const RenderSettings& settings, bool with_r
     const std::uint64_t pixels = std::uint64_t{settings.width} * settings.height;
     // The two G-buffers hold 2 x 96 bytes of GSurface a pixel (80 more since it carries wo and
     // the BSDF).
-    // ReSTIR GI adds three buffers of 72-byte path reservoirs.
-    const bool restir_gi =
-        settings.method == Method::restir && settings.gi == GlobalIllumination::restir_gi;
-    const std::uint64_t per_pixel = (settings.method == Method::restir ? 384u : 192u) +
-                                    (restir_gi ? 216u : 0u) + (with_reference ? 48u : 0u);
+    // ReSTIR GI adds three buffers of 72-byte path reservoirs, ReSTIR PT three of 112 bytes.
+    const bool restir = settings.method == Method::restir;
+    const std::uint64_t paths = !restir                                        ? 0u
+                                : settings.gi == GlobalIllumination::restir_gi ? 216u
+                                : settings.gi == GlobalIllumination::restir_pt ? 336u
+                                                                               : 0u;
+    const std::uint64_t per_pixel = (restir ? 384u : 192u) + paths + (with_reference ? 48u : 0u);
     const std::uint64_t vpls = settings.gi == GlobalIllumination::vpl ? settings.vpls : 0u;
     // bvh's light tree: 124 bytes more per VPL measured at 1M VPLs (grid's per-light nodes
     // need less); the grid at most: its cells' tile indices (4 bytes a cell), and its tiles (a

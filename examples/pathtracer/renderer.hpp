@@ -25,8 +25,21 @@ enum class GlobalIllumination {
     path, ///< Direct light + path-traced indirect light.
     /// Direct light + ReSTIR GI: path samples reused with the reconnection shift (--method
     /// restir; the reference renders the same integral as `path`).
-    restir_gi
+    restir_gi,
+    /// Direct light + ReSTIR PT: whole paths reused with the hybrid shift (random replay, then
+    /// reconnection; --method restir; the reference renders the same integral as `path`).
+    restir_pt
 };
+/// Whether `gi` adds path-traced indirect light (gi path, and the path samples that restir-gi
+/// and restir-pt reuse, whose reference is the path tracer's).
+inline bool traces_indirect_paths(GlobalIllumination gi) {
+    return gi == GlobalIllumination::path || gi == GlobalIllumination::restir_gi ||
+           gi == GlobalIllumination::restir_pt;
+}
+/// Whether `gi` reuses path samples in a ReSTIR frame of its own (restir-gi, restir-pt).
+inline bool reuses_paths(GlobalIllumination gi) {
+    return gi == GlobalIllumination::restir_gi || gi == GlobalIllumination::restir_pt;
+}
 /// Where RIS candidates come from: lights in proportion to their power (from light tiles), or
 /// uniformly (from light tiles), or by their importance at the pixel's surface (a light BVH,
 /// drawn per pixel), or by their importance in the pixel's cell of a world-space grid (tiles
@@ -106,9 +119,12 @@ struct RenderSettings {
     /// that the accumulated image converges to the path-traced answer, not to one set's.
     std::uint32_t vpl_reshoot_interval = 0;
     float attenuation_radius = 0.0f; ///< Yuksel radius for VPLs; 0: 2 % of the scene's size.
-    std::uint32_t max_depth = 8;     ///< Path length limit (reference, gi path and restir-gi).
+    std::uint32_t max_depth = 8; ///< Path length limit (reference, gi path, restir-gi, restir-pt).
     /// The shift of ReSTIR GI's samples (its `min_roughness`: which sample points reconnect).
     restir::ReconnectionShift reconnection{};
+    /// Which vertices ReSTIR PT's paths reconnect at: `min_roughness` as is, `min_distance` as a
+    /// fraction of the scene's size (the renderer scales it).
+    restir::ReconnectionCriterion pt_reconnection{0.3f, 0.01f};
     /// Frames hold indirect light only (gi path and restir-gi, and the reference): no
     /// emission, no direct light, nothing where camera rays leave the scene. For measuring the
     /// indirect light's error alone; the time still includes the direct light's frame.
@@ -146,7 +162,7 @@ struct RenderSettings {
 
 /// Milliseconds per phase of one frame: `tiles` is the light-tile fill, `candidates` the
 /// initial RIS and its visibility ray (ris: RIS and shading are both in `shading`), `indirect`
-/// the whole ReSTIR GI frame (gi restir-gi).
+/// the whole ReSTIR GI or PT frame (gi restir-gi, restir-pt).
 struct FrameTimings {
     double primary = 0, photons = 0, tiles = 0, candidates = 0, temporal = 0, spatial = 0,
            shading = 0, indirect = 0, total = 0;

@@ -1,5 +1,6 @@
 #include "restir_gi.hpp"
 
+#include "pt_paths.hpp"
 #include "reprojection.hpp"
 #include "reservoir.hpp"
 #include "timing.hpp"
@@ -12,8 +13,10 @@ namespace pt {
 
 namespace {
 
-using PathReservoir = restir::Reservoir<restir::PathSample>;
-static_assert(sizeof(PathReservoir) == 72u, "estimated_memory_bytes counts 72 bytes a reservoir");
+static_assert(sizeof(restir::Reservoir<restir::PathSample>) == 72u,
+              "estimated_memory_bytes counts 72 bytes a ReSTIR GI reservoir");
+static_assert(sizeof(restir::Reservoir<restir::PtSample>) == 112u,
+              "estimated_memory_bytes counts 112 bytes a ReSTIR PT reservoir");
 
 /// f(wo, wi) cos Lo of a path sample at surface `s`, through its BSDF (unshadowed).
 glm::vec3 path_contribution(const restir::PathSample& x, const GSurface& s) {
@@ -29,28 +32,89 @@ struct PathTarget {
     }
 };
 
+/// ReSTIR GI's samples: one bounce and the radiance it finds (PathTracer::path_sample),
+/// reused through the reconnection shift with traced visibility.
+struct GiKind {
+    using Sample = restir::PathSample;
+    const PathTracer& paths;
+    const EmbreeScene& rays;
+    const RenderSettings& settings;
+    float ray_offset;
+
+    // One path sample, W = 1 / source pdf (Ouyang et al. 2021, Alg. 1), M = 1 also where the
+    // bounce found nothing.
+    restir::Reservoir<Sample> initial(const GSurface& s, restir::Pcg32& rng) const {
+        restir::Reservoir<Sample> r;
+        const Sample x = paths.path_sample(s, rng);
+        const float target = x.source_pdf > 0.0f ? PathTarget{}(x, s) : 0.0f;
+        r.stream(x, restir::safe_divide(target, x.source_pdf), target, 0.0f);
+        r.finalize();
+        return r;
+    }
+    static glm::vec3 contribution(const Sample& x, const GSurface& s) {
+        return path_contribution(x, s);
+    }
+    auto reuse() const {
+        return restir::ReuseBridge{PathTarget{},
+                                   restir::ReconnectionVisibility<EmbreeScene>{&rays, ray_offset},
+                                   restir::AnyMaterial{}, settings.reconnection};
+    }
+};
+
+/// p-hat of a ReSTIR PT sample: its f(x) folded, at the surface it belongs to.
+struct PtTarget {
+    float operator()(const restir::PtSample& x, const GSurface& s) const {
+        return restir::fold_channels<target_norm>(restir::pt_sample_contribution(x, s.position));
+    }
+};
+
+/// ReSTIR PT's samples: whole paths (PtPaths), reused through the hybrid shift. Their f
+/// includes the visibility of every segment, the shift's reconnection traced by the shift.
+struct PtKind {
+    using Sample = restir::PtSample;
+    PtPaths paths;
+    restir::ReconnectionCriterion rule;
+
+    restir::Reservoir<Sample> initial(const GSurface& s, restir::Pcg32& rng) const {
+        return paths.initial(s, rng.next_uint(), rule);
+    }
+    static glm::vec3 contribution(const Sample& x, const GSurface& s) {
+        return restir::pt_sample_contribution(x, s.position);
+    }
+    auto reuse() const {
+        const auto open = [](const Sample&, const GSurface&) { return true; };
+        return restir::ReuseBridge{PtTarget{}, open, restir::AnyMaterial{},
+                                   restir::HybridShift<PtPaths>{&paths, rule}};
+    }
+};
+
 } // namespace
 
-// The recipe's frame over the renderer's buffers: this frame's and last frame's reservoirs and
-// what the recipe calls back (the initial path sample, shading).
 struct RestirGi::Stages {
+    virtual ~Stages() = default;
+    virtual void render(std::uint32_t frame_index, bool history, Image& image, FrameTimings& t) = 0;
+};
+
+// The recipe's frame over the renderer's buffers: this frame's and last frame's reservoirs and
+// what the recipe calls back (the initial sample, shading), for the samples of `Kind`.
+template <class Kind>
+struct RestirGi::KindStages final : RestirGi::Stages {
+    using Sample = typename Kind::Sample;
+    using PathReservoir = restir::Reservoir<Sample>;
+    using Frame = restir::DiFrame<Sample, GSurface, CameraReprojection>;
+
     const RenderSettings& settings;
     const PixelBlocks& blocks;
     const GBuffer& gbuffer;
-    const EmbreeScene& rays;
-    const PathTracer& paths;
     const Camera& previous_camera;
-    const float ray_offset;
+    const Kind kind;
     // `out` of the recipe (the final reservoirs, next frame's history), last frame's, and the
     // recipe's second buffer.
     std::vector<PathReservoir> reservoirs, previous_reservoirs, scratch;
 
-    using Frame = restir::DiFrame<restir::PathSample, GSurface, CameraReprojection>;
-
-    Stages(const RenderSettings& rs, const PixelBlocks& pb, const GBuffer& g, const EmbreeScene& r,
-           const PathTracer& p, const Camera& previous, float offset)
-        : settings(rs), blocks(pb), gbuffer(g), rays(r), paths(p), previous_camera(previous),
-          ray_offset(offset) {
+    KindStages(const RenderSettings& rs, const PixelBlocks& pb, const GBuffer& g,
+               const Camera& previous, Kind k)
+        : settings(rs), blocks(pb), gbuffer(g), previous_camera(previous), kind(std::move(k)) {
         const std::size_t pixels = std::size_t{settings.width} * settings.height;
         reservoirs.resize(pixels);
         previous_reservoirs.resize(pixels);
@@ -66,24 +130,12 @@ struct RestirGi::Stages {
         return f;
     }
 
-    // The initial reservoir: one path sample, W = 1 / source pdf (Ouyang et al. 2021, Alg. 1),
-    // M = 1 also where the bounce found nothing.
-    PathReservoir initial_reservoir(const GSurface& s, restir::Pcg32& rng) const {
-        PathReservoir r;
-        const restir::PathSample x = paths.path_sample(s, rng);
-        const float target = x.source_pdf > 0.0f ? PathTarget{}(x, s) : 0.0f;
-        r.stream(x, restir::safe_divide(target, x.source_pdf), target, 0.0f);
-        r.finalize();
-        return r;
-    }
-
-    void render(std::uint32_t frame_index, bool history, Image& image, FrameTimings& t) {
+    void render(std::uint32_t frame_index, bool history, Image& image, FrameTimings& t) override {
         const auto start = Clock::now();
         std::swap(reservoirs, previous_reservoirs); // last frame's result: the history
         const Frame f = frame_of(frame_index, history);
         const std::uint32_t w = settings.width, h = settings.height;
-        const restir::DiBuffers<restir::PathSample> buffers{{reservoirs.data(), w, h},
-                                                            {scratch.data(), w, h}};
+        const restir::DiBuffers<Sample> buffers{{reservoirs.data(), w, h}, {scratch.data(), w, h}};
         const auto for_each_pixel = [&](const auto& body) {
             blocks.for_each_block([&](const PixelBlock& b) {
                 blocks.for_each_pixel_of(b, [&](std::uint32_t x, std::uint32_t y, std::uint32_t) {
@@ -93,7 +145,7 @@ struct RestirGi::Stages {
             });
         };
         const auto initial = [&](restir::PixelCoord, const GSurface& s, restir::Pcg32& rng) {
-            return initial_reservoir(s, rng);
+            return kind.initial(s, rng);
         };
         const auto rng_for = [&](restir::PixelCoord p, std::uint32_t stream) {
             return restir::make_pixel_rng(
@@ -104,12 +156,9 @@ struct RestirGi::Stages {
             const std::size_t i = static_cast<std::size_t>(p.x) + static_cast<std::size_t>(p.y) * w;
             if (visible && r.has_sample())
                 image.pixels[i] +=
-                    path_contribution(r.sample, gbuffer.surfaces()[i]) * r.contribution_weight;
+                    Kind::contribution(r.sample, gbuffer.surfaces()[i]) * r.contribution_weight;
         };
-        const restir::ReuseBridge reuse{
-            PathTarget{}, restir::ReconnectionVisibility<EmbreeScene>{&rays, ray_offset},
-            restir::AnyMaterial{}, settings.reconnection};
-        restir::run_di_frame(f, buffers, restir::DiBridge{initial, reuse, rng_for, shade},
+        restir::run_di_frame(f, buffers, restir::DiBridge{initial, kind.reuse(), rng_for, shade},
                              for_each_pixel);
         t.indirect = milliseconds_since(start);
     }
@@ -117,9 +166,21 @@ struct RestirGi::Stages {
 
 RestirGi::RestirGi(const RenderSettings& settings, const PixelBlocks& blocks,
                    const GBuffer& gbuffer, const EmbreeScene& rays, const PathTracer& paths,
-                   const Camera& previous_camera, float ray_offset)
-    : stages_(std::make_unique<Stages>(settings, blocks, gbuffer, rays, paths, previous_camera,
-                                       ray_offset)) {}
+                   const LightSet& lights, const Camera& previous_camera, float ray_offset) {
+    if (settings.gi == GlobalIllumination::restir_pt) {
+        const Scene& scene = gbuffer.scene();
+        restir::ReconnectionCriterion rule = settings.pt_reconnection;
+        rule.min_distance *= scene_size(scene);
+        stages_ = std::make_unique<KindStages<PtKind>>(
+            settings, blocks, gbuffer, previous_camera,
+            PtKind{PtPaths(scene, rays, lights, ray_offset, settings.max_depth,
+                           settings.environment_nee),
+                   rule});
+    } else {
+        stages_ = std::make_unique<KindStages<GiKind>>(settings, blocks, gbuffer, previous_camera,
+                                                       GiKind{paths, rays, settings, ray_offset});
+    }
+}
 
 RestirGi::~RestirGi() = default;
 

@@ -27,6 +27,8 @@ namespace restir {
 //                                                emitter a BSDF ray hits
 //   ShiftMapping        reuse/shift.hpp          `shift(x, from, to)`: a sample carried to
 //                                                another surface, with its Jacobian
+//   PathReplay          gi/hybrid_shift.hpp      a path tracer that replays a path sample's
+//                                                random numbers from another visible point
 //   VisibilityFunction  reuse/visibility.hpp     `visible(sample, surface)` -> bool
 //   BatchVisibility     reuse/di_frame_tiles.hpp `tracer.trace(queries, visible)`
 //   DiFrameBridge       reuse/di_frame_bridge.hpp a frame's callbacks: `initial`, `reuse`,

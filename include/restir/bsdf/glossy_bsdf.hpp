@@ -171,6 +171,29 @@ struct GlossyBsdf {
         return select_float((cos_o > 0.0f) & (cos_i > 0.0f), mixed, 0.0f);
     }
 
+    /// The density of one branch of `sample`: the lobe's probability times its density at wi,
+    /// P_s p_s(wi) for the specular lobe (`specular` true), (1 - P_s) max(0, n.wi) / pi for the
+    /// diffuse one; the two sum to `pdf`. A path whose lobe choices are replayed from the same
+    /// random numbers changes density by the ratio of these (gi/hybrid_shift.hpp).
+    RESTIR_HOST_DEVICE float lobe_pdf(glm::vec3 n, glm::vec3 wo, glm::vec3 wi,
+                                      bool specular) const {
+        const float cos_o = glm::dot(n, wo);
+        const float cos_i = glm::dot(n, wi);
+        if (!(cos_o > 0.0f) || !(cos_i > 0.0f))
+            return 0.0f;
+        const float p = specular_probability(n, wo);
+        if (!specular)
+            return (1.0f - p) * (cos_i * inv_pi);
+        const glm::vec3 h = wo + wi;
+        const glm::vec3 n_cross_h = glm::cross(n, h);
+        return p * glossy_specular_pdf(ggx_alpha(roughness), cos_o, cos_i, glm::dot(h, h),
+                                       glm::dot(n_cross_h, n_cross_h));
+    }
+    /// Whether `sample` draws from the specular lobe for this wo and u_lobe.
+    RESTIR_HOST_DEVICE bool samples_specular(glm::vec3 n, glm::vec3 wo, float u_lobe) const {
+        return u_lobe < specular_probability(n, wo);
+    }
+
     /// One direction from three uniform numbers in [0,1): u_lobe chooses the lobe, u0 u1 the
     /// direction. Specular: a visible normal m (`sample_ggx_vndf`), wi = reflect(wo, m);
     /// diffuse: `sample_diffuse_direction`. No sample (pdf 0) when wo or the reflected wi is at
@@ -180,7 +203,7 @@ struct GlossyBsdf {
         if (!(glm::dot(n, wo) > 0.0f))
             return {};
         glm::vec3 wi;
-        if (u_lobe < specular_probability(n, wo)) {
+        if (samples_specular(n, wo, u_lobe)) {
             const ShadingFrame frame = ShadingFrame::from_normal(n);
             const glm::vec3 wo_local = frame.to_local(wo);
             const glm::vec3 m = sample_ggx_vndf(wo_local, ggx_alpha(roughness), u0, u1);
