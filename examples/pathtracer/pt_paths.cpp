@@ -12,7 +12,13 @@ namespace pt {
 namespace {
 
 // The purposes of a vertex's random streams.
-enum Purpose : std::uint32_t { draw_bounce = 1u, draw_emitter = 2u, draw_sky = 3u, draw_pick = 4u };
+enum Purpose : std::uint32_t {
+    draw_bounce = 1u,
+    draw_emitter = 2u,
+    draw_sky = 3u,
+    draw_pick = 4u,
+    draw_roulette = 5u
+};
 
 // The stream of `purpose` at vertex `vertex` of the path drawn from `seed`.
 restir::Pcg32 vertex_rng(std::uint32_t seed, std::uint32_t vertex, Purpose purpose) {
@@ -228,6 +234,21 @@ void PtPaths::advance(Walk& walk, const GSurface& s, const Bounce& b, std::uint3
     walk.ext_p *= b.lobe_pdf;
 }
 
+// Russian roulette past the reconnection vertex, where the shift keeps the path as it is: the
+// path goes on beyond x_{vertex + 1} with probability q = min(0.95, max channel of f / p), and
+// the densities of the candidates after it take q in.
+bool PtPaths::survives(Walk& walk, std::uint32_t seed, std::uint32_t vertex) {
+    if (walk.rc.rc_index == 0u || vertex < walk.rc.rc_index || vertex < 2u)
+        return true;
+    const glm::vec3 throughput = walk.hybrid_f / walk.hybrid_p;
+    const float q = std::min(0.95f, std::max(throughput.x, std::max(throughput.y, throughput.z)));
+    restir::Pcg32 rng = vertex_rng(seed, vertex, draw_roulette);
+    if (!(q > 0.0f) || !(next_float(rng) < q))
+        return false;
+    walk.hybrid_p *= q;
+    return true;
+}
+
 restir::Reservoir<restir::PtSample>
 PtPaths::initial(const GSurface& x1, std::uint32_t seed,
                  const restir::ReconnectionCriterion& rule) const {
@@ -256,6 +277,8 @@ PtPaths::initial(const GSurface& x1, std::uint32_t seed,
         if (!b.hit.found)
             break;
         advance(walk, s, b, vertex, rule);
+        if (!survives(walk, seed, vertex))
+            break;
         s = b.next;
     }
     r.finalize_normalized();

@@ -18,8 +18,9 @@ namespace pt {
 /// Paths from visible points through the scene to its emitters and sky, and their replay: the
 /// application's side of restir::HybridShift (a restir::PathReplay). Each vertex draws its
 /// direction (three numbers: lobe, then direction, on every material) and its light samples
-/// from streams of its own, seeded by the path's seed and the vertex's index; no Russian
-/// roulette, so that a replayed path's length is the path's (`max_depth` bounds it).
+/// from streams of its own, seeded by the path's seed and the vertex's index. Russian roulette
+/// only past the reconnection vertex, which the shift does not replay (`max_depth` bounds the
+/// rest).
 class PtPaths {
 public:
     using Vertex = GSurface;
@@ -81,6 +82,8 @@ private:
     /// reconnection vertex where the segment meets `rule` first.
     static void advance(Walk& walk, const GSurface& s, const Bounce& b, std::uint32_t vertex,
                         const restir::ReconnectionCriterion& rule);
+    /// Russian roulette after bounce `vertex` once the path is past its reconnection vertex.
+    static bool survives(Walk& walk, std::uint32_t seed, std::uint32_t vertex);
     /// Replays the bounces at y_1 .. y_{last - 1}: false where one misses or a pair meets `rule`.
     bool replay_bounces(const restir::PtSample& x, const restir::ReconnectionCriterion& rule,
                         std::uint32_t last, GSurface& s, glm::vec3& throughput,
