@@ -58,19 +58,6 @@ row() {
     "$(awk -v b="$(stat "$2" bias last)" 'BEGIN { print 100 * b }')"
 }
 
-# bias_over_seeds LABEL REFERENCE FLAGS...: the accumulated image's mean against REFERENCE over
-# SEEDS seeds, as mean +- standard error.
-bias_over_seeds() {
-  local label=$1 image=$2
-  shift 2
-  for seed in $(seq 1 "$seeds"); do
-    run "$@" --width 80 --height 60 --indirect-only --seed "$seed" --reference "$image" \
-      --csv "$dir/bias.csv" --out "$dir/bias.pfm"
-    stat "$dir/bias.csv" bias last
-  done | awk -v label="$label" '{ s += $1; q += $1 * $1; n++ } END {
-    m = s / n; printf "| %s | %+.2f %% +- %.2f %% |\n", label, 100 * m, 100 * sqrt((q / n - m * m) / (n - 1)) }'
-}
-
 bias_study() {
   echo "## the indirect light's mean over $seeds seeds, 80x60"
   echo "| setup | mean against the reference |"

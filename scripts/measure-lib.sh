@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Helpers of the measurement scripts (sourced): `run` a render quietly under nice, read a
 # column of a render's CSV (`stat`), render a reference once and cache it (`reference`), and
-# the PNG exposure it chose (`exposure`). The caller sets `render` (the restir-render binary)
+# the PNG exposure it chose (`exposure`), the indirect light's bias over seeds
+# (`bias_over_seeds`). The caller sets `render` (the restir-render binary)
 # and `dir` (where references and CSVs go).
 
 run() { nice -n 10 "$render" "$@" >/dev/null; }
@@ -39,3 +40,15 @@ reference() {
 # exposure REFERENCE: the PNG exposure the reference was written with.
 exposure() { sed -n 's/.*(exposure \(.*\))$/\1/p' "${1%.pfm}.log" | tail -n 1; }
 
+# bias_over_seeds LABEL REFERENCE FLAGS...: the indirect light's accumulated mean at 80 x 60
+# against REFERENCE over seeds 1..$seeds (the caller sets `seeds`), as mean +- standard error.
+bias_over_seeds() {
+  local label=$1 image=$2
+  shift 2
+  for seed in $(seq 1 "$seeds"); do
+    run "$@" --width 80 --height 60 --indirect-only --seed "$seed" --reference "$image" \
+      --csv "$dir/bias.csv" --out "$dir/bias.pfm"
+    stat "$dir/bias.csv" bias last
+  done | awk -v label="$label" '{ s += $1; q += $1 * $1; n++ } END {
+    m = s / n; printf "| %s | %+.2f %% +- %.2f %% |\n", label, 100 * m, 100 * sqrt((q / n - m * m) / (n - 1)) }'
+}

@@ -74,19 +74,6 @@ table() {
     'BEGIN { printf "reference noise (path per-frame MSE / %d): %.3g\n\n", n + 1, p / (n + 1) }'
 }
 
-# bias_over_seeds LABEL REFERENCE FLAGS...: the accumulated image's mean against REFERENCE over
-# SEEDS seeds, as mean +- standard error.
-bias_over_seeds() {
-  local label=$1 image=$2
-  shift 2
-  for seed in $(seq 1 "$seeds"); do
-    run "$@" --width 80 --height 60 --indirect-only --seed "$seed" --reference "$image" \
-      --frames "$frames" --csv "$dir/bias.csv" --out "$dir/bias.pfm"
-    stat "$dir/bias.csv" bias last
-  done | awk -v label="$label" '{ s += $1; q += $1 * $1; n++ } END {
-    m = s / n; printf "| %s | %+.2f %% +- %.2f %% |\n", label, 100 * m, 100 * sqrt((q / n - m * m) / (n - 1)) }'
-}
-
 bias_study() {
   echo "## the indirect light's mean over $seeds seeds, 80x60, $frames frames"
   echo "| setup | mean against the reference |"
@@ -96,7 +83,7 @@ bias_study() {
     image=$(reference "$name-80x60-indirect" 8192 --scene "$name" --width 80 --height 60 \
       --gi path --indirect-only)
     for gi in restir-pt path; do
-      bias_over_seeds "$name, $gi" "$image" --scene "$name" --gi "$gi"
+      bias_over_seeds "$name, $gi" "$image" --scene "$name" --gi "$gi" --frames "$frames"
     done
   done
 }
