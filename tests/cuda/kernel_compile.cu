@@ -358,6 +358,55 @@ __global__ void gi_reuse_kernel(const GiTexel* texels,
     packed_out[index] = restir::pack_path_sample(result.sample);
 }
 
+// ReSTIR PT's hybrid shift on the device: a replayable path tracer in which a path reconnecting
+// at x_2 has the visible point itself as its prefix, and a path without reconnection vertex is
+// one glossy bounce from the visible point (its numbers drawn from the seed, the lobe's branch
+// density kept) that escapes to a white sky.
+struct SkyReplay {
+    using Vertex = GiTexel;
+    restir::GlossyBsdf bsdf;
+    RESTIR_HOST_DEVICE restir::ReplayedPrefix<GiTexel>
+    replay_prefix(const restir::PtSample& x, const GiTexel& from,
+                  const restir::ReconnectionCriterion&) const {
+        return {from, from.position, bsdf.roughness, glm::vec3(1.0f), 1.0f, x.rc_index == 2u};
+    }
+    RESTIR_HOST_DEVICE restir::ReplayedPath
+    replay_path(const restir::PtSample& x, const GiTexel& from,
+                const restir::ReconnectionCriterion&) const {
+        restir::Pcg32 rng = restir::make_pixel_rng(x.seed, 0u, restir::RngStream::application);
+        const float u_lobe = next_float(rng);
+        const float u0 = next_float(rng);
+        const float u1 = next_float(rng);
+        const glm::vec3 n = from.normal;
+        const restir::BsdfSample s = bsdf.sample(n, n, u_lobe, u0, u1);
+        const float density = bsdf.lobe_pdf(n, n, s.wi, bsdf.samples_specular(n, n, u_lobe));
+        return {s.weight * density, density, s.pdf > 0.0f && x.length == 2u};
+    }
+    RESTIR_HOST_DEVICE glm::vec3 reconnect(const GiTexel& v, const restir::PtSample& x) const {
+        const float cos_v =
+            fmaxf(0.0f, glm::dot(v.normal, glm::normalize(x.rc_position - v.position)));
+        const float cos_k = fmaxf(0.0f, glm::dot(x.rc_normal, x.rc_direction));
+        return v.albedo * (cos_v * restir::inv_pi) *
+               (cos_k * restir::inv_pi * restir::rc_mis_weight(x, cos_k * restir::inv_pi));
+    }
+};
+static_assert(restir::PathReplay<SkyReplay, GiTexel>);
+
+// One path sample per thread shifted from its texel to the next one's.
+__global__ void hybrid_shift_kernel(const GiTexel* texels, const restir::PtSample* samples,
+                                    std::uint32_t count, glm::vec3* out) {
+    const auto i = static_cast<std::uint32_t>(blockIdx.x * blockDim.x + threadIdx.x);
+    if (i >= count)
+        return;
+    const SkyReplay replay{
+        restir::GlossyBsdf::from_metallic_roughness(glm::vec3(0.8f, 0.6f, 0.4f), 0.0f, 0.5f)};
+    const restir::HybridShift<SkyReplay> shift{&replay, {0.3f, 0.01f}};
+    const restir::ShiftedSample<restir::PtSample> y =
+        shift(samples[i], texels[i], texels[(i + 1u) % count]);
+    out[i] = y.sample.contribution * y.jacobian +
+             restir::pt_sample_contribution(samples[i], texels[i].position);
+}
+
 // The frame recipe as a GPU renderer runs it: one kernel per stage, the frame by value.
 using RecipeFrame = restir::DiFrame<restir::LightSampleRef, GBufferTexel, StaticCamera>;
 using RecipeReservoir = restir::Reservoir<restir::LightSampleRef>;

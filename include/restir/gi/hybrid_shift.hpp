@@ -43,8 +43,8 @@ struct ReplayedPath {
 /// `from` (a `Surface`), with `criterion` the shift's `ReconnectionCriterion`:
 ///   `replay.replay_prefix(x, from, criterion)` -> `ReplayedPrefix<Vertex>`: the directions at
 ///       y_1 .. y_{k-2} drawn with x's random numbers (x.seed, vertex by vertex, as the path was
-///       made), the rays traced; invalid where a ray misses, or where a pair (y_i, y_{i+1})
-///       before y_{k-1} already meets the criterion (the shifted path would reconnect earlier:
+///       made), the rays traced; invalid where a ray misses, or where a pair (y_i, y_{i+1}) with
+///       i + 1 <= k - 1 already meets the criterion (the shifted path would reconnect earlier:
 ///       the shift would not be invertible);
 ///   `replay.replay_path(x, from, criterion)` -> `ReplayedPath`: a path without reconnection
 ///       vertex (x.rc_index 0) replayed to its light (x.length, x.end, x.end_technique);
@@ -69,9 +69,11 @@ concept PathReplay = requires(const R& replay, const PtSample& x, const S& from,
 /// reaches the light (k = n - 1), the balance heuristic of the technique that found it against
 /// the other (Veach 1997, Eq. 9.10, light density `x.rc_light_pdf`); 1 where the path goes on.
 RESTIR_HOST_DEVICE inline float rc_mis_weight(const PtSample& x, float bsdf_pdf) {
+    if (x.rc_index + 1u != x.length)
+        return 1.0f;
     const float light_pdf = x.rc_light_pdf;
-    const bool light_sampled = x.end == PathEnd::light_sampled && x.rc_index + 1u == x.length;
-    return safe_divide(light_sampled ? light_pdf : bsdf_pdf, bsdf_pdf + light_pdf);
+    return safe_divide(x.end == PathEnd::light_sampled ? light_pdf : bsdf_pdf,
+                       bsdf_pdf + light_pdf);
 }
 
 /// The hybrid shift as a `ShiftMapping` of `PtSample`s between `Surface`s: random replay to
@@ -94,7 +96,7 @@ struct HybridShift {
         const glm::vec3 nr = surface_normal(to);
         ShiftedSample<PtSample> y{x, 0.0f};
         y.sample.visible_point = r;
-        if (x.length == 0u || !(x.density > 0.0f))
+        if (x.length == 0u || x.rc_index == 1u || !(x.density > 0.0f))
             return y;
         if (q == r && nq == nr) {
             y.jacobian = 1.0f;
