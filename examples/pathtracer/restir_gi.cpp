@@ -54,6 +54,7 @@ struct GiKind {
     static glm::vec3 contribution(const Sample& x, const GSurface& s) {
         return path_contribution(x, s);
     }
+    static void adjust(restir::DiFrameParams&) {}
     auto reuse() const {
         return restir::ReuseBridge{PathTarget{},
                                    restir::ReconnectionVisibility<EmbreeScene>{&rays, ray_offset},
@@ -80,6 +81,14 @@ struct PtKind {
     }
     static glm::vec3 contribution(const Sample& x, const GSurface& s) {
         return restir::pt_sample_contribution(x, s.position);
+    }
+    // Pixels smoother than the criterion's roughness, whose paths the shift replays from the
+    // visible point, read their own pixel's history: a permuted history pixel's path, replayed
+    // through their narrow lobe, was worth half as much (the glossy pixels' per-frame MSE 2.2x
+    // higher in the glossy box, docs/restir-pt.md).
+    void adjust(restir::DiFrameParams& p) const {
+        p.temporal.permutation_min_roughness =
+            std::max(p.temporal.permutation_min_roughness, rule.min_roughness);
     }
     auto reuse() const {
         const auto open = [](const Sample&, const GSurface&) { return true; };
@@ -125,6 +134,7 @@ struct RestirGi::KindStages final : RestirGi::Stages {
     // and after a camera cut.
     Frame frame_of(std::uint32_t frame, bool history) const {
         Frame f = frame_over<Frame>(gbuffer, previous_camera, settings, frame, history);
+        kind.adjust(f.params);
         if (f.previous_surfaces.data != nullptr)
             f.history = {previous_reservoirs.data(), settings.width, settings.height};
         return f;
