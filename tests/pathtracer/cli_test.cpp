@@ -106,7 +106,9 @@ TEST(Cli, HelpDocumentsEveryFlagWithItsDefault) {
                              "--env-rotate",
                              "--indirect-only",
                              "--out-frame",
-                             "--gi-min-roughness"})
+                             "--gi-min-roughness",
+                             "--pt-min-roughness",
+                             "--pt-min-distance"})
         EXPECT_NE(r.out.find(flag), std::string::npos) << flag;
     EXPECT_NE(r.out.find("restir"), std::string::npos);
     EXPECT_NE(r.out.find("cornell-glossy"), std::string::npos);
@@ -131,6 +133,9 @@ TEST(Cli, BadInputIsOneLineAndStatusTwo) {
     expect_one_line_error(small("--method ris --gi restir-gi"), "--method restir");
     expect_one_line_error(small("--gi vpl --indirect-only"), "--indirect-only");
     expect_one_line_error(small("--gi restir-gi --gi-min-roughness 2"), "gi-min-roughness");
+    expect_one_line_error(small("--method uniform --gi restir-pt"), "--method restir");
+    expect_one_line_error(small("--gi restir-pt --pt-min-roughness 2"), "pt-min-roughness");
+    expect_one_line_error(small("--gi restir-pt --pt-min-distance -1"), "pt-min-distance");
     expect_one_line_error(small("--scene " + (dir / "missing.obj").string()), "missing.obj");
 
     std::ofstream(dir / "broken.obj") << "v 0 0 0\nf 1 2 3\n";
@@ -434,20 +439,21 @@ TEST(Cli, RendersTheSunSkyScene) {
     }
 }
 
-// ReSTIR GI renders in every scene, under a turning camera too, reports its phase and writes its
-// last frame alone.
-TEST(Cli, RendersRestirGi) {
+// ReSTIR GI and PT render in every scene, under a turning camera too, report their phase and
+// write their last frame alone.
+TEST(Cli, RendersRestirGiAndPt) {
     const fs::path frame = scratch_dir() / "gi-frame.pfm";
-    for (const char* scene : {"cornell", "cornell-glossy", "sun-sky"}) {
-        fs::remove(frame);
-        const Outcome r =
-            run(std::string("--width 12 --height 8 --frames 3 --gi restir-gi ") +
-                "--camera-motion orbit --scene " + scene + " --out " +
-                (scratch_dir() / "gi.png").string() + " --out-frame " + frame.string());
-        EXPECT_EQ(r.status, 0) << scene << "\n" << r.err;
-        EXPECT_NE(r.out.find(", indirect "), std::string::npos) << r.out;
-        EXPECT_TRUE(fs::exists(frame)) << scene;
-    }
+    for (const std::string gi : {"restir-gi", "restir-pt"})
+        for (const char* scene : {"cornell", "cornell-glossy", "sun-sky"}) {
+            fs::remove(frame);
+            const Outcome r =
+                run("--width 12 --height 8 --frames 3 --gi " + gi +
+                    " --camera-motion orbit --scene " + scene + " --out " +
+                    (scratch_dir() / "gi.png").string() + " --out-frame " + frame.string());
+            EXPECT_EQ(r.status, 0) << gi << " " << scene << "\n" << r.err;
+            EXPECT_NE(r.out.find(", indirect "), std::string::npos) << r.out;
+            EXPECT_TRUE(fs::exists(frame)) << gi << " " << scene;
+        }
 }
 
 // The settings restir-render parses from `arguments` (after the program's name).
