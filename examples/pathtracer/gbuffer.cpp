@@ -39,6 +39,12 @@ std::uint32_t octahedral(glm::vec3 wo) {
 
 void set_view_and_material(GSurface& s, glm::vec3 wo, const Material& m, std::uint32_t index) {
     s.wo_octahedral = octahedral(wo);
+    set_material(s, m, index);
+}
+
+void set_view(GSurface& s, glm::vec3 wo) { s.wo_octahedral = octahedral(wo); }
+
+void set_material(GSurface& s, const Material& m, std::uint32_t index) {
     s.albedo = m.albedo;
     s.material = index;
     s.specular = to_unorm<std::uint16_t>(m.specular, 65535.0f);

@@ -67,6 +67,9 @@ inline glm::vec3 emitted(const Scene& scene, const GSurface& s) {
 glm::vec3 view_direction(const GSurface& s);
 /// Sets the direction towards the viewer and material `m`, Scene::materials[index], of `s`.
 void set_view_and_material(GSurface& s, glm::vec3 wo, const Material& m, std::uint32_t index);
+/// Each half of it: the direction towards the viewer, and the material.
+void set_view(GSurface& s, glm::vec3 wo);
+void set_material(GSurface& s, const Material& m, std::uint32_t index);
 
 /// The surface that a ray travelling along `direction` (unit) found, seen from -direction;
 /// emission only on an emitter's front side.

@@ -234,11 +234,11 @@ void PtPaths::advance(Walk& walk, const GSurface& s, const Bounce& b, std::uint3
     walk.ext_p *= b.lobe_pdf;
 }
 
-// Russian roulette past the reconnection vertex, where the shift keeps the path as it is: the
-// path goes on beyond x_{vertex + 1} with probability q = min(0.95, max channel of f / p), and
-// the densities of the candidates after it take q in.
+// Russian roulette past the reconnection vertex, where the shift keeps the path as it is, from
+// x_4 on as the path tracer's: the path goes on beyond x_{vertex + 1} with probability q =
+// min(0.95, max channel of f / p), and the densities of the candidates after it take q in.
 bool PtPaths::survives(Walk& walk, std::uint32_t seed, std::uint32_t vertex) {
-    if (walk.rc.rc_index == 0u || vertex < walk.rc.rc_index || vertex < 2u)
+    if (walk.rc.rc_index == 0u || vertex < walk.rc.rc_index || vertex < 3u)
         return true;
     const glm::vec3 throughput = walk.hybrid_f / walk.hybrid_p;
     const float q = std::min(0.95f, std::max(throughput.x, std::max(throughput.y, throughput.z)));
@@ -350,11 +350,13 @@ glm::vec3 PtPaths::reconnect(const GSurface& v, const restir::PtSample& x) const
     if (!(distance > 0.0f))
         return glm::vec3(0.0f);
     const glm::vec3 w = to_rc / distance;
-    GSurface k; // x_k, seen from v
+    GSurface k; // x_k, seen from v (a Lambertian surface's f ignores the view)
     k.position = x.rc_position;
     k.normal = x.rc_normal;
     k.valid = true;
-    set_view_and_material(k, -w, scene_.materials[x.rc_material], x.rc_material);
+    set_material(k, scene_.materials[x.rc_material], x.rc_material);
+    if (!is_lambertian(k))
+        set_view(k, -w);
     const glm::vec3 f = f_cos(v, w) * f_cos(k, x.rc_direction) *
                         restir::rc_mis_weight(x, mixture_pdf(k, x.rc_direction));
     if (!(f.x > 0.0f) && !(f.y > 0.0f) && !(f.z > 0.0f))
