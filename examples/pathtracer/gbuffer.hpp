@@ -65,6 +65,12 @@ inline glm::vec3 emitted(const Scene& scene, const GSurface& s) {
 }
 /// The unit direction towards the viewer (Cigolle et al. 2014, octahedral encoding).
 glm::vec3 view_direction(const GSurface& s);
+/// The solid-angle density with which a path's bounce from `s` draws `wi`: by cosine on a
+/// Lambertian surface, GlossyBsdf::sample's mixture on any other.
+inline float bounce_pdf(const GSurface& s, glm::vec3 wi) {
+    return is_lambertian(s) ? restir::diffuse_direction_pdf(s.normal, wi)
+                            : surface_bsdf(s).pdf(s.normal, view_direction(s), wi);
+}
 /// Sets the direction towards the viewer and material `m`, Scene::materials[index], of `s`.
 void set_view_and_material(GSurface& s, glm::vec3 wo, const Material& m, std::uint32_t index);
 /// Each half of it: the direction towards the viewer, and the material.

@@ -54,6 +54,18 @@ public:
     const restir::AliasTable& local_power_table() const { return local_table_; }
     /// The emitters alone by power (path tracing NEE).
     const restir::AliasTable& emitter_table() const { return emitter_table_; }
+    /// The density per steradian at `from` with which next-event estimation (an emitter by
+    /// power, then its point: a triangle's by area, a shape's by its solid angle from `from`)
+    /// draws the point that a ray from `from` found on `emitter` (`hit`, cos_light > 0 the
+    /// cosine there), for MIS against BSDF sampling.
+    float emitter_hit_pdf(std::uint32_t emitter, const Hit& hit, glm::vec3 from,
+                          float cos_light) const {
+        const float pmf = emitter_table_.pmf(emitter);
+        const float area_pdf = emitters_.is_shape(emitter)
+                                   ? pmf * emitters_.point_pdf(emitter, hit.position, from)
+                                   : pmf / emitters_.area(emitter);
+        return area_pdf * hit.distance * hit.distance / cos_light;
+    }
     /// The VPLs alone by power (the reference's VPL NEE); empty without VPLs.
     const restir::AliasTable& vpl_table() const { return vpl_table_; }
     /// The VPLs' distance falloff.

@@ -29,12 +29,6 @@ restir::BsdfSample sample_bounce(const GSurface& s, restir::Pcg32& rng) {
     return surface_bsdf(s).sample(s.normal, view_direction(s), u_lobe, u0, u1);
 }
 
-// The solid-angle density with which sample_bounce draws `wi`.
-float bounce_pdf(const GSurface& s, glm::vec3 wi) {
-    return is_lambertian(s) ? restir::diffuse_direction_pdf(s.normal, wi)
-                            : surface_bsdf(s).pdf(s.normal, view_direction(s), wi);
-}
-
 } // namespace
 
 glm::vec3 PathTracer::reflected(const GSurface& s, const restir::LightSample& light) const {
@@ -170,12 +164,7 @@ glm::vec3 PathTracer::radiance_from(const GSurface& start, restir::Pcg32& rng, b
         const std::uint32_t emitter = emitters.emitter_of_primitive(hit.primitive);
         if (direct && emitter != SceneEmitters::none && glm::dot(hit.normal, direction) < 0.0f) {
             const float cos_light = -glm::dot(hit.normal, direction);
-            // emitter_nee's density of the hit point per unit area, then per steradian.
-            const float pmf = lights_.emitter_table().pmf(emitter);
-            const float area_pdf = emitters.is_shape(emitter)
-                                       ? pmf * emitters.point_pdf(emitter, hit.position, s.position)
-                                       : pmf / emitters.area(emitter);
-            const float light_pdf = area_pdf * hit.distance * hit.distance / cos_light;
+            const float light_pdf = lights_.emitter_hit_pdf(emitter, hit, s.position, cos_light);
             radiance +=
                 throughput * emitters.radiance(emitter) * (bounce.pdf / (bounce.pdf + light_pdf));
         }

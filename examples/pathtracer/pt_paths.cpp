@@ -32,12 +32,6 @@ glm::vec3 f_cos(const GSurface& s, glm::vec3 wi) {
     return surface_bsdf(s).evaluate_cos(s.normal, view_direction(s), wi);
 }
 
-// The solid-angle density with which a bounce from `s` draws `wi` (both lobes).
-float mixture_pdf(const GSurface& s, glm::vec3 wi) {
-    return is_lambertian(s) ? restir::diffuse_direction_pdf(s.normal, wi)
-                            : surface_bsdf(s).pdf(s.normal, view_direction(s), wi);
-}
-
 // Whether the segment a - b may be a reconnection (x_{k-1}, x_k).
 bool meets(const restir::ReconnectionCriterion& rule, const GSurface& a, const GSurface& b) {
     return rule(surface_roughness(a), surface_roughness(b), glm::length(a.position - b.position));
@@ -137,7 +131,7 @@ PtPaths::Connection PtPaths::light_sampled(const GSurface& s, std::uint32_t seed
             restir::shadow_segment(s.position, s.normal, light.position, light.normal, ray_offset_);
         open = glm::dot(s.normal, c.direction) > 0.0f && !rays_.occluded(segment.from, segment.to);
     }
-    c.bsdf_pdf = mixture_pdf(s, c.direction);
+    c.bsdf_pdf = bounce_pdf(s, c.direction);
     c.f_cos = f_cos(s, c.direction);
     c.radiance = open ? radiance : glm::vec3(0.0f);
     return c;
@@ -161,12 +155,7 @@ PtPaths::Connection PtPaths::bsdf_sampled(const GSurface& s, const Bounce& b) co
     const float cos_light = -glm::dot(b.hit.normal, b.wi);
     if (emitter == SceneEmitters::none || !(cos_light > 0.0f))
         return c;
-    // Light sampling's density of the hit point per unit area, then per steradian.
-    const float pmf = lights_.emitter_table().pmf(emitter);
-    const float area_pdf = emitters.is_shape(emitter)
-                               ? pmf * emitters.point_pdf(emitter, b.hit.position, s.position)
-                               : pmf / emitters.area(emitter);
-    c.light_pdf = area_pdf * b.hit.distance * b.hit.distance / cos_light;
+    c.light_pdf = lights_.emitter_hit_pdf(emitter, b.hit, s.position, cos_light);
     c.radiance = emitters.radiance(emitter);
     return c;
 }
@@ -358,7 +347,7 @@ glm::vec3 PtPaths::reconnect(const GSurface& v, const restir::PtSample& x) const
     if (!is_lambertian(k))
         set_view(k, -w);
     const glm::vec3 f = f_cos(v, w) * f_cos(k, x.rc_direction) *
-                        restir::rc_mis_weight(x, mixture_pdf(k, x.rc_direction));
+                        restir::rc_mis_weight(x, bounce_pdf(k, x.rc_direction));
     if (!(f.x > 0.0f) && !(f.y > 0.0f) && !(f.z > 0.0f))
         return glm::vec3(0.0f);
     const restir::ShadowSegment segment =
