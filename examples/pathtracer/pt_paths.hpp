@@ -31,7 +31,7 @@ public:
     /// The initial reservoir at visible point `s` (x_1): the path drawn from `seed`, each of its
     /// light connections (light sampling at x_2 .. x_n and the lights its BSDF rays find from
     /// x_2 on) a candidate of streaming RIS with target f (the indirect light: x_1's own direct
-    /// light is ReSTIR DI's); W = w_sum / p-hat, M = 1 (Lin et al. 2022, Sec. 7.1).
+    /// light is ReSTIR DI's); W = w_sum / p-hat, M = 1 (Lin et al. 2022).
     restir::Reservoir<restir::PtSample> initial(const GSurface& s, std::uint32_t seed,
                                                 const restir::ReconnectionCriterion& rule) const;
 

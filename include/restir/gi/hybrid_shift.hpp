@@ -1,5 +1,5 @@
 /// @file gi/hybrid_shift.hpp
-/// The hybrid shift of ReSTIR PT (Lin et al. 2022, Sec. 7.2): a path sample made at visible
+/// The hybrid shift of ReSTIR PT (Lin et al. 2022): a path sample made at visible
 /// point x_1 is carried to visible point y_1 by replaying its random numbers from y_1 (random
 /// replay) up to y_{k-1}, then joining y_{k-1} to the path's own reconnection vertex x_k, after
 /// which the path is the same. A path without a reconnection vertex is replayed whole. The

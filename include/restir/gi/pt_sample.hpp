@@ -1,5 +1,5 @@
 /// @file gi/pt_sample.hpp
-/// The sample of ReSTIR PT (Lin et al. 2022, Sec. 7): one whole path x_1 .. x_n from a pixel's
+/// The sample of ReSTIR PT (Lin et al. 2022): one whole path x_1 .. x_n from a pixel's
 /// visible point x_1 to a light, stored as what the hybrid shift needs to rebuild it from
 /// another visible point: the random numbers of its prefix (a seed), its reconnection vertex
 /// x_k and the part of the path after it, and the rule (`ReconnectionCriterion`) that chose k.
@@ -17,7 +17,7 @@
 
 namespace restir {
 
-/// Which vertices a path may reconnect at (Lin et al. 2022, Sec. 7.2): x_{k-1} and x_k
+/// Which vertices a path may reconnect at (Lin et al. 2022): x_{k-1} and x_k
 /// reconnect when both are rough enough that their reflection changes slowly with direction
 /// and they are far enough apart that moving x_{k-1} turns the segment little. The path's
 /// reconnection vertex x_k is the first vertex (not its light) for which the pair qualifies;
@@ -46,7 +46,7 @@ enum class PathEnd : std::uint8_t {
 /// at each replayed vertex the lobe's posterior probability P_l p_l(w) / p(w), and at the end
 /// the MIS weight of how the light was found (balance heuristic, light sampling against the
 /// BSDF's). Their sum over the choices is the plain contribution, so the sample's estimate
-/// f(x) W stays unbiased (Lin et al. 2022, Sec. 7.1).
+/// f(x) W stays unbiased (Lin et al. 2022).
 struct PtSample {
     glm::vec3 visible_point{0.0f}; ///< x_1: where the sample belongs (after a shift, y_1).
     glm::vec3 contribution{0.0f};  ///< f(x) at x_1 per channel, visibility included.
@@ -82,7 +82,7 @@ static_assert(sizeof(PtSample) == 96u);
 /// from x_{k-1}: the density of the replayed directions (`prefix_density`, the product over
 /// x_1 .. x_{k-2}) over the geometry term that turns x_{k-1}'s solid angle into x_k's area,
 ///   D = prod p(w_i) * |x_{k-1} - x_k|^2 / cos theta_k.
-/// The hybrid shift's Jacobian is D(x) / D(y) (Lin et al. 2022, Eq. 7.2, with the random
+/// The hybrid shift's Jacobian is D(x) / D(y) (Lin et al. 2022: the random
 /// replay's p_x(w_i) / p_y(w'_i) and the reconnection's Eq. 11 of Ouyang et al. 2021); 0 where
 /// x_{k-1} lies behind x_k's surface or on it, where the reconnection fails.
 RESTIR_HOST_DEVICE inline float reconnection_density(float prefix_density, glm::vec3 from,
