@@ -41,13 +41,21 @@ bool meets(const restir::ReconnectionCriterion& rule, const GSurface& a, const G
 
 // The products along the path being drawn: with every vertex's lobe kept (`ext`, the form of
 // a path replayed whole), and once the reconnection vertex x_k is found, with the lobes kept
-// before x_{k-1} only (`hybrid`: the prefix the shift replays) and after x_k (`suffix`).
+// before x_{k-1} only (`hybrid`: the prefix the shift replays; `rc_f`, `rc_p` as it reached
+// x_k) and after x_k (`suffix`). A Lambertian x_k (`reflected`) gathers the light connections
+// after it into the radiance it reflects (f / p of each after x_k: `tail`).
 struct PtPaths::Walk {
     glm::vec3 ext_f{1.0f};
     float ext_p = 1.0f;
     glm::vec3 hybrid_f{1.0f};
     float hybrid_p = 1.0f;
     glm::vec3 suffix_f{1.0f};
+    glm::vec3 rc_f{1.0f};
+    float rc_p = 1.0f;
+    bool reflected = false;
+    glm::vec3 tail_f{1.0f};
+    float tail_p = 1.0f;
+    glm::vec3 reflected_radiance{0.0f};
     restir::PtSample rc; ///< The seed, the visible point and, once found, x_k.
 };
 
@@ -169,6 +177,13 @@ void PtPaths::offer(restir::Reservoir<restir::PtSample>& r, Walk& walk, const Co
     const float u = next_float(rng);
     const bool light = end == restir::PathEnd::light_sampled;
     const float mis_sum = c.bsdf_pdf + c.light_pdf;
+    if (walk.reflected && vertex >= walk.rc.rc_index) { // one more term of x_k's radiance
+        // tail f times the end's weight branch / mis_sum, over tail p times branch.
+        const float p = walk.tail_p * mis_sum;
+        if (p > 0.0f)
+            walk.reflected_radiance += walk.tail_f * c.f_cos * c.radiance / p;
+        return;
+    }
     restir::PtSample x = walk.rc;
     x.length = static_cast<std::uint8_t>(vertex + 1u);
     x.end = end;
@@ -210,9 +225,14 @@ void PtPaths::advance(Walk& walk, const GSurface& s, const Bounce& b, std::uint3
             restir::reconnection_density(walk.ext_p, s.position, b.next.position, b.next.normal);
         walk.hybrid_f = walk.ext_f * b.f_cos;
         walk.hybrid_p = walk.ext_p * b.pdf;
+        walk.rc_f = walk.hybrid_f;
+        walk.rc_p = walk.hybrid_p;
+        walk.reflected = is_lambertian(b.next);
     } else if (rc.rc_index != 0u) {
         walk.hybrid_f *= b.f_cos;
         walk.hybrid_p *= b.pdf;
+        walk.tail_f *= b.f_cos;
+        walk.tail_p *= b.pdf;
         if (vertex == rc.rc_index)
             rc.rc_direction = b.wi;
         else
@@ -235,6 +255,7 @@ bool PtPaths::survives(Walk& walk, std::uint32_t seed, std::uint32_t vertex) {
     if (!(q > 0.0f) || !(next_float(rng) < q))
         return false;
     walk.hybrid_p *= q;
+    walk.tail_p *= q;
     return true;
 }
 
@@ -269,6 +290,17 @@ PtPaths::initial(const GSurface& x1, std::uint32_t seed,
         if (!survives(walk, seed, vertex))
             break;
         s = b.next;
+    }
+    if (walk.reflected) { // the paths through a Lambertian x_k, as one candidate
+        restir::PtSample x = walk.rc;
+        x.length = static_cast<std::uint8_t>(x.rc_index + 1u);
+        x.end = restir::PathEnd::reflected;
+        x.suffix = walk.reflected_radiance;
+        x.contribution = walk.rc_f * x.suffix;
+        const float target = restir::fold_channels<target_norm>(x.contribution);
+        const float u = next_float(pick);
+        if (target > 0.0f && walk.rc_p > 0.0f)
+            r.stream(x, target / walk.rc_p, target, u);
     }
     r.finalize_normalized();
     r.candidate_count = 1u;
@@ -339,15 +371,17 @@ glm::vec3 PtPaths::reconnect(const GSurface& v, const restir::PtSample& x) const
     if (!(distance > 0.0f))
         return glm::vec3(0.0f);
     const glm::vec3 w = to_rc / distance;
-    GSurface k; // x_k, seen from v (a Lambertian surface's f ignores the view)
-    k.position = x.rc_position;
-    k.normal = x.rc_normal;
-    k.valid = true;
-    set_material(k, scene_.materials[x.rc_material], x.rc_material);
-    if (!is_lambertian(k))
-        set_view(k, -w);
-    const glm::vec3 f = f_cos(v, w) * f_cos(k, x.rc_direction) *
-                        restir::rc_mis_weight(x, bounce_pdf(k, x.rc_direction));
+    glm::vec3 f = f_cos(v, w);
+    if (x.end != restir::PathEnd::reflected) { // x.suffix arrives at x_k along w_k
+        GSurface k; // x_k, seen from v (a Lambertian surface's f ignores the view)
+        k.position = x.rc_position;
+        k.normal = x.rc_normal;
+        k.valid = true;
+        set_material(k, scene_.materials[x.rc_material], x.rc_material);
+        if (!is_lambertian(k))
+            set_view(k, -w);
+        f *= f_cos(k, x.rc_direction) * restir::rc_mis_weight(x, bounce_pdf(k, x.rc_direction));
+    }
     if (!(f.x > 0.0f) && !(f.y > 0.0f) && !(f.z > 0.0f))
         return glm::vec3(0.0f);
     const restir::ShadowSegment segment =

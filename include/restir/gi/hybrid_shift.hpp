@@ -51,7 +51,8 @@ struct ReplayedPath {
 ///       invalid where it misses before its end or a pair of its vertices meets the criterion;
 ///   `replay.reconnect(v, x)` -> `glm::vec3`: the factors of f(y) that the join changes: f_s
 ///       cos at v = y_{k-1} towards x_k, times f_s cos at x_k from v towards x.rc_direction
-///       times `rc_mis_weight`, times the visibility of the segment v - x_k.
+///       times `rc_mis_weight` (nothing where x.end is `PathEnd::reflected`), times the
+///       visibility of the segment v - x_k.
 /// Every factor and density as the path's own sampler computed them (`PtSample`).
 template <class R, class S>
 concept PathReplay = requires(const R& replay, const PtSample& x, const S& from,
@@ -69,7 +70,7 @@ concept PathReplay = requires(const R& replay, const PtSample& x, const S& from,
 /// reaches the light (k = n - 1), the balance heuristic of the technique that found it against
 /// the other (Veach 1997, Eq. 9.10, light density `x.rc_light_pdf`); 1 where the path goes on.
 RESTIR_HOST_DEVICE inline float rc_mis_weight(const PtSample& x, float bsdf_pdf) {
-    if (x.rc_index + 1u != x.length)
+    if (x.rc_index + 1u != x.length || x.end == PathEnd::reflected)
         return 1.0f;
     const float light_pdf = x.rc_light_pdf;
     return safe_divide(x.end == PathEnd::light_sampled ? light_pdf : bsdf_pdf,

@@ -39,6 +39,11 @@ struct ReconnectionCriterion {
 enum class PathEnd : std::uint8_t {
     light_sampled, ///< x_n drawn on a light from x_{n-1} (next-event estimation).
     bsdf_sampled,  ///< x_n found by a direction drawn from x_{n-1}'s BSDF (or the sky).
+    /// Every path on from a Lambertian x_k at once: `suffix` is the radiance x_k reflects,
+    /// the same towards every direction, as the rest of the path estimated it (ReSTIR GI's Lo,
+    /// Ouyang et al. 2021); the sample stands for the paths through x_k, and `rc_direction`,
+    /// `rc_light_pdf` and `end_technique` are unused.
+    reflected,
 };
 
 /// A path sample. Its value is f(x), the path's contribution in the product of solid angles at
@@ -54,7 +59,8 @@ struct PtSample {
     glm::vec3 rc_normal{0.0f};     ///< n_k, unit, on the side x_{k-1} lies.
     glm::vec3 rc_direction{0.0f};  ///< w_k: unit, from x_k towards x_{k+1} (or its light).
     /// Radiance arriving at x_k along w_k: the suffix's factors of f after x_k (Le, the BSDFs
-    /// and cosines at x_{k+1} .. x_{n-1}, and their weights).
+    /// and cosines at x_{k+1} .. x_{n-1}, and their weights); with `PathEnd::reflected`, the
+    /// radiance leaving x_k.
     glm::vec3 suffix{0.0f};
     /// With a reconnection vertex (rc_index >= 2): the reconnection density
     /// (`reconnection_density`) of the prefix; without one, the density of the whole path (the
