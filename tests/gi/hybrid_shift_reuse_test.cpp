@@ -342,13 +342,7 @@ std::string name_of(const PtSetup& s) {
            (s.replay_whole ? "_replay" : "_reconnect") + (s.temporal ? "_temporal" : "_spatial");
 }
 
-// The setup's own random numbers (FNV-1a of its name): no two setups share a draw.
-std::uint64_t seed_of(const PtSetup& setup) {
-    std::uint64_t h = 14695981039346656037ull;
-    for (const char c : name_of(setup))
-        h = (h ^ static_cast<unsigned char>(c)) * 1099511628211ull;
-    return h;
-}
+std::uint64_t seed_of(const PtSetup& setup) { return restir::test::seed_of_name(name_of(setup)); }
 
 // Per pixel: f(y) W after reuse per channel and summed; the last frame's initial one summed.
 struct PixelStats {

@@ -174,14 +174,7 @@ std::string name_of(const GiSetup& s) {
 
 void PrintTo(const GiSetup& setup, std::ostream* os) { *os << name_of(setup); }
 
-// The setup's own random numbers (FNV-1a of its name), so that no two setups share a draw: a
-// chance fluctuation of one stream cannot fail several setups at once.
-std::uint64_t seed_of(const GiSetup& setup) {
-    std::uint64_t h = 14695981039346656037ull;
-    for (const char c : name_of(setup))
-        h = (h ^ static_cast<unsigned char>(c)) * 1099511628211ull;
-    return h;
-}
+std::uint64_t seed_of(const GiSetup& setup) { return restir::test::seed_of_name(name_of(setup)); }
 
 struct SamePixel {
     PixelCoord operator()(PixelCoord p) const { return p; }

@@ -7,8 +7,19 @@
 
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
+#include <string_view>
 
 namespace restir::test {
+
+/// A test setup's own random seed, from its name (FNV-1a): no two setups share a draw, so a
+/// chance fluctuation of one stream cannot fail several setups at once.
+inline std::uint64_t seed_of_name(std::string_view name) {
+    std::uint64_t h = 14695981039346656037ull;
+    for (const char c : name)
+        h = (h ^ static_cast<unsigned char>(c)) * 1099511628211ull;
+    return h;
+}
 
 /// Welford's online mean and variance.
 class RunningStats {
