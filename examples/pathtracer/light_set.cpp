@@ -35,14 +35,22 @@ BoundingSphere bounding_sphere(const Scene& scene) {
     return {0.5f * (box.lower + box.upper), 0.5f * scene_size(scene)};
 }
 
+// Yuksel's falloff (gi vpl), or the clamped one of the partition (gi vpl-unbiased), at
+// --attenuation-radius or a share of the scene's size.
+restir::Falloff vpl_falloff(const RenderSettings& settings, float extent) {
+    const bool unbiased = settings.gi == GlobalIllumination::vpl_unbiased;
+    const float radius = settings.attenuation_radius > 0.0f ? settings.attenuation_radius
+                         : unbiased                         ? default_partition_radius * extent
+                                                            : 0.02f * extent;
+    return unbiased ? restir::VplPartition{radius}.vpl_falloff() : restir::Falloff::yuksel(radius);
+}
+
 } // namespace
 
 LightSet::LightSet(const Scene& scene, const EmbreeScene& rays, const RenderSettings& settings,
                    tbb::task_arena& arena, float ray_offset, float extent)
     : scene_(scene), rays_(rays), settings_(settings), arena_(arena), ray_offset_(ray_offset),
-      falloff_(restir::Falloff::yuksel(
-          settings.attenuation_radius > 0.0f ? settings.attenuation_radius : 0.02f * extent)),
-      emitters_(checked_emitters(scene)) {
+      falloff_(vpl_falloff(settings, extent)), emitters_(checked_emitters(scene)) {
     shoot_vpls(0u);
 }
 
@@ -57,10 +65,14 @@ bool LightSet::reshoot_vpls(std::uint32_t frame) {
 // Shoots VPL set `generation` (0: the first, from the photons' seed) with --gi vpl, and
 // rebuilds the light set and its sampling tables.
 void LightSet::shoot_vpls(std::uint32_t generation) {
-    if (settings_.gi == GlobalIllumination::vpl && settings_.vpls > 0) {
+    if (uses_vpls(settings_.gi) && settings_.vpls > 0) {
         const auto start = Clock::now();
         restir::PhotonParams params = settings_.photons;
         params.ray_offset = ray_offset_;
+        // Without bias the VPLs hold every bounce that the path tracer's paths hold: a VPL at
+        // bounce b lights paths of b + 1 reflections, the path tracer's reach max_depth.
+        if (settings_.gi == GlobalIllumination::vpl_unbiased)
+            params.max_bounces = std::max(settings_.max_depth, 2u) - 1u;
         // Set 0 keeps the seed itself; later sets are independent of it and of each other.
         params.seed = generation == 0u
                           ? settings_.photons.seed
@@ -74,9 +86,18 @@ void LightSet::shoot_vpls(std::uint32_t generation) {
     build_light_set(generation);
 }
 
-// A photon pass (restir::shoot_photons) on the renderer's threads.
+// A photon pass (restir::shoot_photons) on the renderer's threads: photons reflected as
+// Lambertian everywhere (gi vpl), or by each surface's BSDF with VPLs on Lambertian surfaces
+// alone (gi vpl-unbiased, whose path samples carry the light that glossy surfaces reflect).
 std::vector<restir::Vpl> LightSet::shoot_photons(const restir::PhotonParams& params) {
-    const LambertianScatter scatter{&scene_};
+    if (settings_.gi == GlobalIllumination::vpl_unbiased)
+        return shoot_photons_with(BsdfScatter{&scene_}, params);
+    return shoot_photons_with(LambertianScatter{&scene_}, params);
+}
+
+template <class Scatter>
+std::vector<restir::Vpl> LightSet::shoot_photons_with(const Scatter& scatter,
+                                                      const restir::PhotonParams& params) {
     const auto parallel_for = [this](std::uint32_t count, auto&& body) {
         arena_.execute([&] { tbb::parallel_for(0u, count, [&](std::uint32_t i) { body(i); }); });
     };

@@ -68,8 +68,12 @@ public:
     }
     /// The VPLs alone by power (the reference's VPL NEE); empty without VPLs.
     const restir::AliasTable& vpl_table() const { return vpl_table_; }
-    /// The VPLs' distance falloff.
+    /// The VPLs' distance falloff: Yuksel's (gi vpl), or the partition's clamped one (gi
+    /// vpl-unbiased).
     const restir::Falloff& falloff() const { return falloff_; }
+    /// The split of indirect light between VPLs and path samples (gi vpl-unbiased); its radius
+    /// is the falloff's.
+    restir::VplPartition partition() const { return {falloff_.parameter}; }
     /// Every local light's emission bounds (emitters as their shapes bound them, VPLs as cosine
     /// emitters), in local id order (the environment left out): for a light BVH or per-light
     /// bounds.
@@ -83,6 +87,9 @@ public:
 private:
     void shoot_vpls(std::uint32_t generation);
     std::vector<restir::Vpl> shoot_photons(const restir::PhotonParams& params);
+    template <class Scatter>
+    std::vector<restir::Vpl> shoot_photons_with(const Scatter& scatter,
+                                                const restir::PhotonParams& params);
     std::uint32_t pilot_photon_count(restir::PhotonParams params);
     void build_light_set(std::uint32_t generation);
     float environment_weight() const;

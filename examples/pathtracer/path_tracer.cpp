@@ -118,7 +118,8 @@ glm::vec3 PathTracer::path_radiance(const GSurface& start, restir::Pcg32& rng, b
     return radiance_from(start, rng, direct, bounce_further, 0u);
 }
 
-restir::PathSample PathTracer::path_sample(const GSurface& s, restir::Pcg32& rng) const {
+restir::PathSample PathTracer::path_sample(const GSurface& s, restir::Pcg32& rng,
+                                           const restir::VplPartition* partition) const {
     restir::PathSample sample;
     const restir::BsdfSample bounce = sample_bounce(s, rng);
     if (!(bounce.pdf > 0.0f) || max_depth_ < 2u)
@@ -130,10 +131,18 @@ restir::PathSample PathTracer::path_sample(const GSurface& s, restir::Pcg32& rng
     sample.visible_point = s.position;
     sample.sample_point = next.position;
     sample.sample_normal = next.normal;
-    sample.radiance = radiance_from(next, rng, true, true, 1u);
     sample.source_pdf = bounce.pdf;
+    // 1 marks a Lambertian surface alone (restir::holds_vpls): a glossy one reports less.
     sample.sample_roughness =
-        is_lambertian(next) ? 1.0f : static_cast<float>(next.roughness) * (1.0f / 65535.0f);
+        is_lambertian(next)
+            ? 1.0f
+            : std::min(static_cast<float>(next.roughness) * (1.0f / 65535.0f), 0.99999994f);
+    // A Lambertian pixel's light from a Lambertian surface at least r away is all the VPLs'
+    // (restir::partitioned_path_radiance is 0): its radiance is not traced.
+    if (partition != nullptr && is_lambertian(s) && is_lambertian(next) &&
+        partition->vpl_share(hit.distance) >= 1.0f)
+        return sample;
+    sample.radiance = radiance_from(next, rng, true, true, 1u);
     return sample;
 }
 

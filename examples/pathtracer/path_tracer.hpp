@@ -41,8 +41,10 @@ public:
     /// radiance reflected towards `s` at the surface the bounce finds (its emission excluded),
     /// estimated as `path_radiance` continues a path there: NEE of the emitters and the
     /// environment, then BSDF sampling with Russian roulette, the bounce counted towards the
-    /// path length limit. No sample (source_pdf 0) where the bounce leaves the scene.
-    restir::PathSample path_sample(const GSurface& s, restir::Pcg32& rng) const;
+    /// path length limit. No sample (source_pdf 0) where the bounce leaves the scene. With a
+    /// `partition` (gi vpl-unbiased), Lo is left 0 where the sample's path part is 0.
+    restir::PathSample path_sample(const GSurface& s, restir::Pcg32& rng,
+                                   const restir::VplPartition* partition = nullptr) const;
     /// One VPL chosen by power, its light reflected at `s` by its BSDF (no MIS: VPLs are
     /// points). VPLs emit as diffuse surfaces whatever the material they lie on.
     glm::vec3 vpl_nee(const GSurface& s, restir::Pcg32& rng) const;

@@ -52,9 +52,8 @@ void check_memory(const RenderSettings& settings, bool with_reference, std::uint
     if (needed > limit)
         fail("this render needs about " + std::to_string(needed >> 20u) + " MB (" +
              std::to_string(settings.width) + "x" + std::to_string(settings.height) +
-             (settings.gi == GlobalIllumination::vpl
-                  ? ", " + std::to_string(settings.vpls) + " VPLs"
-                  : std::string{}) +
+             (uses_vpls(settings.gi) ? ", " + std::to_string(settings.vpls) + " VPLs"
+                                     : std::string{}) +
              "), more than the limit of " + std::to_string(limit >> 20u) +
              " MB: make the image or --vpls smaller, or raise --max-memory");
 }
@@ -99,12 +98,15 @@ void add_scene_options(CLI::App& app, RenderOptions& options) {
                    "Indirect light: none, vpl (photon-mapped VPLs sampled with the emitters), "
                    "path (path-traced bounces), restir-gi (path samples reused over time and "
                    "space with the reconnection shift) or restir-pt (whole paths reused with the "
-                   "hybrid shift); restir-gi and restir-pt: --method restir or reference")
+                   "hybrid shift), or vpl-unbiased (VPLs beyond a radius on Lambertian surfaces, "
+                   "path samples reused as restir-gi's for the rest: no bias); restir-gi, "
+                   "restir-pt and vpl-unbiased: --method restir or reference")
         ->transform(names<GlobalIllumination>({{"none", GlobalIllumination::none},
                                                {"vpl", GlobalIllumination::vpl},
                                                {"path", GlobalIllumination::path},
                                                {"restir-gi", GlobalIllumination::restir_gi},
-                                               {"restir-pt", GlobalIllumination::restir_pt}}))
+                                               {"restir-pt", GlobalIllumination::restir_pt},
+                                               {"vpl-unbiased", GlobalIllumination::vpl_unbiased}}))
         ->default_str("vpl");
     app.add_option("--spp", settings.spp, "Samples per pixel per frame (restir: 1)")
         ->check(CLI::Range(1u, 65536u));
@@ -344,9 +346,10 @@ void add_light_point_options(CLI::App& app, RenderSettings& settings) {
 // --vpl-seed, or --seed without it: `vpl_seed` holds it until parsing ends.
 void add_indirect_light_options(CLI::App& app, RenderSettings& settings,
                                 std::optional<std::uint64_t>& vpl_seed) {
-    app.add_option("--vpls", settings.vpls, "About this many VPLs (gi vpl)")
+    app.add_option("--vpls", settings.vpls, "About this many VPLs (gi vpl and vpl-unbiased)")
         ->check(CLI::Range(0u, 100'000'000u));
-    app.add_option("--vpl-bounces", settings.photons.max_bounces, "Photon bounce limit")
+    app.add_option("--vpl-bounces", settings.photons.max_bounces,
+                   "Photon bounce limit (gi vpl; vpl-unbiased takes --max-depth - 1)")
         ->check(CLI::Range(1u, 64u));
     app.add_option("--vpl-reshoot", settings.vpl_reshoot_interval,
                    "Shoot a new, independent VPL set every N frames (0: one set for the whole "
@@ -354,7 +357,9 @@ void add_indirect_light_options(CLI::App& app, RenderSettings& settings,
         ->check(CLI::Range(0u, 1'000'000u));
     app.add_option("--vpl-seed", vpl_seed, "Seed of the photons (default: --seed)");
     app.add_option("--attenuation-radius", settings.attenuation_radius,
-                   "Yuksel attenuation radius of VPLs in scene units (0: 2 % of the scene size)")
+                   "The VPLs' radius in scene units: Yuksel's attenuation radius (gi vpl; 0: 2 % "
+                   "of the scene size), or the radius within which path samples take over (gi "
+                   "vpl-unbiased; 0: 10 % of the scene size)")
         ->check(finite_number & CLI::Range(0.0f, 1e30f));
     app.add_option("--max-depth", settings.max_depth,
                    "Path length limit (reference, gi path, restir-gi and restir-pt)")
@@ -397,9 +402,14 @@ void check_consistent(const RenderOptions& options) {
              "with it");
     if (reuses_paths(settings.gi) && settings.method != Method::restir &&
         settings.method != Method::reference)
-        fail("--gi restir-gi and restir-pt reuse path samples across frames: use --method "
-             "restir (or reference for their converged image)");
-    if (settings.indirect_only && !traces_indirect_paths(settings.gi))
+        fail("--gi restir-gi, restir-pt and vpl-unbiased reuse path samples across frames: use "
+             "--method restir (or reference for their converged image)");
+    if (settings.indirect_only && settings.gi == GlobalIllumination::vpl_unbiased &&
+        settings.method == Method::restir)
+        fail("--indirect-only cannot part the VPLs of --gi vpl-unbiased from the emitters' "
+             "direct light: compare whole images");
+    if (settings.indirect_only && !traces_indirect_paths(settings.gi) &&
+        settings.gi != GlobalIllumination::vpl_unbiased)
         fail("--indirect-only keeps the indirect light of --gi path, restir-gi or restir-pt: "
              "give one");
     if (settings.environment_sampling == EnvironmentSampling::bsdf && settings.bsdf_candidates == 0)

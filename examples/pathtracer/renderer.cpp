@@ -223,7 +223,10 @@ struct Renderer::Impl {
     // path's; plus the indirect light that --gi asks for.
     glm::vec3 independent_radiance(const GSurface& s, const Reservoir& picked,
                                    restir::Pcg32& rng) const {
-        const bool gi_path = traces_indirect_paths(settings.gi);
+        // The reference of gi vpl-unbiased is the path tracer's indirect light.
+        const bool gi_path =
+            traces_indirect_paths(settings.gi) || (settings.method == Method::reference &&
+                                                   settings.gi == GlobalIllumination::vpl_unbiased);
         if (settings.indirect_only)
             return gi_path ? paths.path_radiance(s, rng, false, true) : glm::vec3(0.0f);
         glm::vec3 color = emitted(scene, s);
@@ -258,12 +261,14 @@ std::uint64_t estimated_memory_bytes(const RenderSettings& settings, bool with_r
     // the BSDF).
     // ReSTIR GI adds three buffers of 72-byte path reservoirs, ReSTIR PT three of 112 bytes.
     const bool restir = settings.method == Method::restir;
-    const std::uint64_t paths = !restir                                        ? 0u
-                                : settings.gi == GlobalIllumination::restir_gi ? 216u
+    const std::uint64_t paths = !restir ? 0u
+                                : settings.gi == GlobalIllumination::restir_gi ||
+                                        settings.gi == GlobalIllumination::vpl_unbiased
+                                    ? 216u
                                 : settings.gi == GlobalIllumination::restir_pt ? 336u
                                                                                : 0u;
     const std::uint64_t per_pixel = (restir ? 384u : 192u) + paths + (with_reference ? 48u : 0u);
-    const std::uint64_t vpls = settings.gi == GlobalIllumination::vpl ? settings.vpls : 0u;
+    const std::uint64_t vpls = uses_vpls(settings.gi) ? settings.vpls : 0u;
     // bvh's light tree: 124 bytes more per VPL measured at 1M VPLs (grid's per-light nodes
     // need less); the grid at most: its cells' tile indices (4 bytes a cell), and its tiles (a
     // cell looked up has fewer than 2 entries per pixel that looks it up, and at least 32, of

@@ -28,18 +28,32 @@ enum class GlobalIllumination {
     restir_gi,
     /// Direct light + ReSTIR PT: whole paths reused with the hybrid shift (random replay, then
     /// reconnection; --method restir; the reference renders the same integral as `path`).
-    restir_pt
+    restir_pt,
+    /// Direct light + VPL GI without bias (restir::VplPartition): VPLs on Lambertian surfaces
+    /// with the falloff 1 / max(d, r)^2 through the receivers' diffuse lobes, in ReSTIR DI's
+    /// light set; ReSTIR GI's path samples carry the rest (--method restir; the reference
+    /// renders the same integral as `path`).
+    vpl_unbiased
 };
+/// Whether `gi` shoots photons and puts VPLs in the light set (vpl, vpl-unbiased).
+inline bool uses_vpls(GlobalIllumination gi) {
+    return gi == GlobalIllumination::vpl || gi == GlobalIllumination::vpl_unbiased;
+}
 /// Whether `gi` adds path-traced indirect light (gi path, and the path samples that restir-gi
 /// and restir-pt reuse, whose reference is the path tracer's).
 inline bool traces_indirect_paths(GlobalIllumination gi) {
     return gi == GlobalIllumination::path || gi == GlobalIllumination::restir_gi ||
            gi == GlobalIllumination::restir_pt;
 }
-/// Whether `gi` reuses path samples in a ReSTIR frame of its own (restir-gi, restir-pt).
+/// Whether `gi` reuses path samples in a ReSTIR frame of its own (restir-gi, restir-pt, and
+/// the path part of vpl-unbiased).
 inline bool reuses_paths(GlobalIllumination gi) {
-    return gi == GlobalIllumination::restir_gi || gi == GlobalIllumination::restir_pt;
+    return gi == GlobalIllumination::restir_gi || gi == GlobalIllumination::restir_pt ||
+           gi == GlobalIllumination::vpl_unbiased;
 }
+/// The radius of restir::VplPartition (gi vpl-unbiased) where --attenuation-radius is not
+/// given, relative to the scene's size (docs/vpl-unbiased.md measures the choice).
+inline constexpr float default_partition_radius = 0.1f;
 /// Where RIS candidates come from: lights in proportion to their power (from light tiles), or
 /// uniformly (from light tiles), or by their importance at the pixel's surface (a light BVH,
 /// drawn per pixel), or by their importance in the pixel's cell of a world-space grid (tiles
@@ -118,7 +132,9 @@ struct RenderSettings {
     /// A new, independent VPL set every this many frames (0: one set for the whole render), so
     /// that the accumulated image converges to the path-traced answer, not to one set's.
     std::uint32_t vpl_reshoot_interval = 0;
-    float attenuation_radius = 0.0f; ///< Yuksel radius for VPLs; 0: 2 % of the scene's size.
+    /// The VPLs' radius: Yuksel's r (gi vpl; 0: 2 % of the scene's size), or the partition's r
+    /// (gi vpl-unbiased, restir::VplPartition; 0: `default_partition_radius` of the scene's size).
+    float attenuation_radius = 0.0f;
     std::uint32_t max_depth = 8; ///< Path length limit (reference, gi path, restir-gi, restir-pt).
     /// The shift of ReSTIR GI's samples (its `min_roughness`: which sample points reconnect).
     restir::ReconnectionShift reconnection{};

@@ -29,9 +29,11 @@ inline constexpr restir::ChannelNorm target_norm = restir::ChannelNorm::euclidea
 /// rarely find (docs/noise-and-bias.md). Emitters light every surface through its own BSDF.
 inline constexpr float vpl_min_alpha = 0.25f;
 
-/// Surface `s` as a glossy receiver, seen from its viewer.
+/// Surface `s` as a glossy receiver, seen from its viewer. The VPLs of gi vpl-unbiased (the
+/// only lights with the clamped falloff here) reach its diffuse lobe alone, their specular
+/// share left to path samples (restir::VplPartition).
 inline restir::GlossyReceiver glossy_receiver(const GSurface& s) {
-    return {s.position, s.normal, view_direction(s), surface_bsdf(s), vpl_min_alpha};
+    return {s.position, s.normal, view_direction(s), surface_bsdf(s), vpl_min_alpha, true};
 }
 
 /// body(receiver) at surface `s`: a Lambertian surface as restir::LambertianReceiver (the

@@ -6,6 +6,7 @@
 #include "timing.hpp"
 
 #include <algorithm>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -18,45 +19,55 @@ static_assert(sizeof(restir::Reservoir<restir::PathSample>) == 72u,
 static_assert(sizeof(restir::Reservoir<restir::PtSample>) == 112u,
               "estimated_memory_bytes counts 112 bytes a ReSTIR PT reservoir");
 
-/// f(wo, wi) cos Lo of a path sample at surface `s`, through its BSDF (unshadowed).
-glm::vec3 path_contribution(const restir::PathSample& x, const GSurface& s) {
+/// f(wo, wi) cos Lo of a path sample at surface `s`, through its BSDF (unshadowed); with a
+/// `partition` (gi vpl-unbiased), its path part alone (restir::partitioned_path_radiance).
+glm::vec3 path_contribution(const restir::PathSample& x, const GSurface& s,
+                            const restir::VplPartition* partition) {
     return with_receiver(s, [&](const auto& receiver) {
-        return glm::vec3(restir::path_sample_radiance(x, receiver));
+        return partition != nullptr ? restir::partitioned_path_radiance(x, receiver, *partition)
+                                    : glm::vec3(restir::path_sample_radiance(x, receiver));
     });
 }
 
 /// p-hat of a path sample at surface `s`: its contribution folded as the light samples' are.
 struct PathTarget {
+    const restir::VplPartition* partition = nullptr;
     float operator()(const restir::PathSample& x, const GSurface& s) const {
-        return restir::fold_channels<target_norm>(path_contribution(x, s));
+        return restir::fold_channels<target_norm>(path_contribution(x, s, partition));
     }
 };
 
 /// ReSTIR GI's samples: one bounce and the radiance it finds (PathTracer::path_sample),
-/// reused through the reconnection shift with traced visibility.
+/// reused through the reconnection shift with traced visibility; with a `partition` (gi
+/// vpl-unbiased), the path part of the indirect light that the VPLs leave.
 struct GiKind {
     using Sample = restir::PathSample;
     const PathTracer& paths;
     const EmbreeScene& rays;
     const RenderSettings& settings;
     float ray_offset;
+    std::optional<restir::VplPartition> partition;
+
+    const restir::VplPartition* partition_or_null() const {
+        return partition ? &*partition : nullptr;
+    }
 
     // One path sample, W = 1 / source pdf (Ouyang et al. 2021, Alg. 1), M = 1 also where the
     // bounce found nothing.
     restir::Reservoir<Sample> initial(const GSurface& s, restir::Pcg32& rng) const {
         restir::Reservoir<Sample> r;
-        const Sample x = paths.path_sample(s, rng);
-        const float target = x.source_pdf > 0.0f ? PathTarget{}(x, s) : 0.0f;
+        const Sample x = paths.path_sample(s, rng, partition_or_null());
+        const float target = x.source_pdf > 0.0f ? PathTarget{partition_or_null()}(x, s) : 0.0f;
         r.stream(x, restir::safe_divide(target, x.source_pdf), target, 0.0f);
         r.finalize();
         return r;
     }
-    static glm::vec3 contribution(const Sample& x, const GSurface& s) {
-        return path_contribution(x, s);
+    glm::vec3 contribution(const Sample& x, const GSurface& s) const {
+        return path_contribution(x, s, partition_or_null());
     }
     static void adjust(restir::DiFrameParams&) {}
     auto reuse() const {
-        return restir::ReuseBridge{PathTarget{},
+        return restir::ReuseBridge{PathTarget{partition_or_null()},
                                    restir::ReconnectionVisibility<EmbreeScene>{&rays, ray_offset},
                                    restir::AnyMaterial{}, settings.reconnection};
     }
@@ -79,7 +90,7 @@ struct PtKind {
     restir::Reservoir<Sample> initial(const GSurface& s, restir::Pcg32& rng) const {
         return paths.initial(s, rng.next_uint(), rule);
     }
-    static glm::vec3 contribution(const Sample& x, const GSurface& s) {
+    glm::vec3 contribution(const Sample& x, const GSurface& s) const {
         return restir::pt_sample_contribution(x, s.position);
     }
     // Pixels smoother than the criterion's roughness, whose paths the shift replays from the
@@ -166,7 +177,7 @@ struct RestirGi::KindStages final : RestirGi::Stages {
             const std::size_t i = static_cast<std::size_t>(p.x) + static_cast<std::size_t>(p.y) * w;
             if (visible && r.has_sample())
                 image.pixels[i] +=
-                    Kind::contribution(r.sample, gbuffer.surfaces()[i]) * r.contribution_weight;
+                    kind.contribution(r.sample, gbuffer.surfaces()[i]) * r.contribution_weight;
         };
         restir::run_di_frame(f, buffers, restir::DiBridge{initial, kind.reuse(), rng_for, shade},
                              for_each_pixel);
@@ -187,8 +198,12 @@ RestirGi::RestirGi(const RenderSettings& settings, const PixelBlocks& blocks,
                            settings.environment_nee),
                    rule});
     } else {
-        stages_ = std::make_unique<KindStages<GiKind>>(settings, blocks, gbuffer, previous_camera,
-                                                       GiKind{paths, rays, settings, ray_offset});
+        std::optional<restir::VplPartition> partition;
+        if (settings.gi == GlobalIllumination::vpl_unbiased)
+            partition = lights.partition();
+        stages_ = std::make_unique<KindStages<GiKind>>(
+            settings, blocks, gbuffer, previous_camera,
+            GiKind{paths, rays, settings, ray_offset, partition});
     }
 }
 

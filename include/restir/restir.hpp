@@ -72,3 +72,4 @@
 #include "restir/vpl/photon_shooter.hpp"
 #include "restir/vpl/unified_light_set.hpp"
 #include "restir/vpl/vpl.hpp"
+#include "restir/vpl/vpl_partition.hpp"

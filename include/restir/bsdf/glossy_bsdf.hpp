@@ -59,9 +59,11 @@ RESTIR_HOST_DEVICE inline float glossy_channel(bool above, float albedo, float d
 /// (two Smith terms, |H|), no pow; finite for every input, 0 when wo or wi is at or below
 /// the surface and for the degenerate wi = -wo. Always inlined: a loop over candidate
 /// directions vectorises only with the body inside it (Clang finds it too large otherwise).
+/// `specular_weight` scales the specular lobe: 1 the whole model, 0 its diffuse lobe alone.
 RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE glm::vec3
 glossy_evaluate_cos(glm::vec3 diffuse_albedo, glm::vec3 specular_f0, float alpha, float cos_o,
-                    float cos_i, float half_length2, float half_cross2) {
+                    float cos_i, float half_length2, float half_cross2,
+                    float specular_weight = 1.0f) {
     // `&`, not `&&`: both comparisons unconditionally, no control flow in a loop.
     const bool above = (cos_o > 0.0f) & (cos_i > 0.0f);
     const float co = max_of(cos_o, 0.0f);
@@ -74,7 +76,7 @@ glossy_evaluate_cos(glm::vec3 diffuse_albedo, glm::vec3 specular_f0, float alpha
     // G2 / (4 co ci) times ci, height-correlated Smith (Heitz 2014, eq. 99):
     // 0.5 ci / (ci root(co) + co root(ci)), one square root per Smith term.
     const float smith = smith_g2_denominator(co, ci, alpha);
-    const float specular_cos = d * (0.5f * ci / max_of(smith, 1e-30f));
+    const float specular_cos = d * (0.5f * ci / max_of(smith, 1e-30f)) * specular_weight;
     // Schlick at wo.h = |H| / 2 (Schlick 1994, eq. 24).
     const float weight_h = schlick_weight(0.5f * std::sqrt(hh));
     const float f90 = fresnel_f90(specular_f0);
@@ -144,13 +146,16 @@ struct GlossyBsdf {
         return evaluate_cos(n, wo, wi, ggx_alpha(roughness));
     }
     /// The same with the specular lobe's GGX `alpha` given (a lobe widened for a light of
-    /// some size, `GlossyReceiver`).
-    RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE glm::vec3 evaluate_cos(glm::vec3 n, glm::vec3 wo,
-                                                                  glm::vec3 wi, float alpha) const {
+    /// some size, `GlossyReceiver`), and its specular lobe scaled by `specular_weight` (0: the
+    /// diffuse lobe alone).
+    RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE glm::vec3
+    evaluate_cos(glm::vec3 n, glm::vec3 wo, glm::vec3 wi, float alpha,
+                 float specular_weight = 1.0f) const {
         const glm::vec3 h = wo + wi;
         const glm::vec3 n_cross_h = glm::cross(n, h);
         return glossy_evaluate_cos(diffuse_albedo, specular_f0, alpha, glm::dot(n, wo),
-                                   glm::dot(n, wi), glm::dot(h, h), glm::dot(n_cross_h, n_cross_h));
+                                   glm::dot(n, wi), glm::dot(h, h), glm::dot(n_cross_h, n_cross_h),
+                                   specular_weight);
     }
 
     /// Solid-angle density with which `sample` returns wi: the mixture p pdf_specular +

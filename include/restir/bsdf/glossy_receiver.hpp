@@ -25,6 +25,11 @@ struct GlossyReceiver {
     /// rays never hit (Kaplanyan and Dachsbacher 2013 regularise such paths by widening the
     /// lobe). 0: none.
     float sphere_min_alpha = 0.0f;
+    /// Light from the VPLs of a `VplPartition` (points with the clamped inverse-square falloff)
+    /// reaches the diffuse lobe alone: their specular share is left to path samples
+    /// (`partitioned_path_radiance`), so that no VPL is a sparkle in a narrow lobe. False: the
+    /// whole BSDF, as for every other light.
+    bool vpls_diffuse_only = false;
 
     /// f(wo, wi) max(0, n.wi) (`GlossyBsdf::evaluate_cos`: branch-free, for the batch loop).
     RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE glm::vec3 reflected(glm::vec3 wi) const {
@@ -39,6 +44,16 @@ struct GlossyReceiver {
         const float alpha = ggx_alpha(bsdf.roughness);
         const float widened = min_of(max_of(alpha + 0.5f * sphere_radius, sphere_min_alpha), 1.0f);
         return bsdf.evaluate_cos(normal, wo, wi, sphere_radius > 0.0f ? widened : alpha);
+    }
+    /// The same, where `from_vpl` marks light from a VPL of a `VplPartition`: its diffuse lobe
+    /// alone where `vpls_diffuse_only` (a select, not a branch: for the batch loop).
+    RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE glm::vec3 reflected(glm::vec3 wi, float sphere_radius,
+                                                               bool from_vpl) const {
+        const float alpha = ggx_alpha(bsdf.roughness);
+        const float widened = min_of(max_of(alpha + 0.5f * sphere_radius, sphere_min_alpha), 1.0f);
+        const float specular_weight = select_float(from_vpl & vpls_diffuse_only, 0.0f, 1.0f);
+        return bsdf.evaluate_cos(normal, wo, wi, sphere_radius > 0.0f ? widened : alpha,
+                                 specular_weight);
     }
     /// A direction from the BSDF's lobes (`GlossyBsdf::sample`).
     RESTIR_HOST_DEVICE DirectionSample sample_direction(float u_lobe, float u0, float u1) const {

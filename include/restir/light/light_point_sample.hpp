@@ -175,7 +175,9 @@ RESTIR_HOST_DEVICE glm::vec3 unshadowed_radiance(const LightPointSample& s, cons
             x.x, x.y, x.z, s.normal.x, s.normal.y, s.normal.z, isotropic ? 1.0f : 0.0f,
             max_of(s.falloff, 0.0f), max_of(-s.falloff, 0.0f), inverse_distance);
         const float sphere_radius = std::sqrt(max_of(s.falloff, 0.0f)) * inverse_distance;
-        return s.intensity * reflected_from(receiver, x * inverse_distance, sphere_radius) * factor;
+        const bool from_vpl = s.falloff < 0.0f; // the clamped falloff: a `VplPartition`'s VPL
+        return s.intensity *
+               reflected_from(receiver, x * inverse_distance, sphere_radius, from_vpl) * factor;
     }
 }
 

@@ -26,6 +26,10 @@ namespace restir {
 /// for points of area lights and isotropic points without a radius, and r / d for point lights
 /// with Yuksel's falloff of radius r (VPLs), so that a glossy receiver may widen its lobe for
 /// them (`GlossyReceiver::sphere_min_alpha`).
+/// Optional: `r.reflected(wi, sphere_radius, from_vpl)` -> glm::vec3, the same, where
+/// `from_vpl` is true for point lights with the clamped inverse-square falloff (the VPLs of a
+/// `VplPartition`, which reach a receiver through its lobes of `VplPartition`'s choice:
+/// `GlossyReceiver::vpls_diffuse_only`); the library calls it before the form above.
 template <class R>
 concept Receiver = requires(const R& r, glm::vec3 wi) {
     { r.position } -> std::convertible_to<glm::vec3>;
@@ -66,12 +70,14 @@ struct LambertianReceiver {
 
 static_assert(Receiver<LambertianReceiver>);
 
-/// `receiver.reflected(wi, sphere_radius)` where the receiver has it, else
-/// `receiver.reflected(wi)`.
+/// `receiver.reflected(wi, sphere_radius, from_vpl)` where the receiver has it, else
+/// `receiver.reflected(wi, sphere_radius)` where it has that, else `receiver.reflected(wi)`.
 template <Receiver R>
-RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE glm::vec3 reflected_from(const R& receiver, glm::vec3 wi,
-                                                                float sphere_radius) {
-    if constexpr (requires { receiver.reflected(wi, sphere_radius); })
+RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE glm::vec3
+reflected_from(const R& receiver, glm::vec3 wi, float sphere_radius, bool from_vpl = false) {
+    if constexpr (requires { receiver.reflected(wi, sphere_radius, from_vpl); })
+        return receiver.reflected(wi, sphere_radius, from_vpl);
+    else if constexpr (requires { receiver.reflected(wi, sphere_radius); })
         return receiver.reflected(wi, sphere_radius);
     else
         return receiver.reflected(wi);

@@ -204,7 +204,8 @@ tile_entry_radiance_target(const Value& value, glm::vec3 position, const R& rece
     const glm::vec3 wi{x * inverse_distance, y * inverse_distance, z * inverse_distance};
     const float sphere_radius =
         std::sqrt(value(TilePlane::yuksel_radius_squared)) * inverse_distance;
-    const glm::vec3 f = reflected_from(receiver, wi, sphere_radius);
+    const glm::vec3 f =
+        reflected_from(receiver, wi, sphere_radius, value(TilePlane::min_distance_squared) > 0.0f);
     const float v =
         fold_channels<Norm>({f.x * value(TilePlane::radiance_r), f.y * value(TilePlane::radiance_g),
                              f.z * value(TilePlane::radiance_b)}) *
