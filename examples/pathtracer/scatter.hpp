@@ -32,7 +32,9 @@ struct LambertianScatter {
 /// Photons reflected by the material's BSDF, drawn as the path tracer draws bounces: by cosine
 /// on a Lambertian surface (weight = albedo), GlossyBsdf::sample otherwise (weight f cos / p,
 /// the BSDF being reciprocal). Only Lambertian surfaces hold VPLs: a VPL's flux Phi albedo is
-/// then exactly what the surface reflects, in every direction.
+/// then exactly what the surface reflects, in every direction. An emitter's surface holds VPLs
+/// of the light it reflects as any Lambertian surface does: a path sample that finds it carries
+/// its reflected light alone, as a VPL does.
 struct BsdfScatter {
     const Scene* scene = nullptr;
 
@@ -43,14 +45,14 @@ struct BsdfScatter {
             const float u0 = next_float(rng);
             const float u1 = next_float(rng);
             return {restir::sample_diffuse_direction(facing, u0, u1), m.albedo, m.albedo, true,
-                    m.is_emissive()};
+                    false};
         }
         const float u_lobe = next_float(rng);
         const float u0 = next_float(rng);
         const float u1 = next_float(rng);
         const restir::BsdfSample s = m.bsdf().sample(facing, -incoming, u_lobe, u0, u1);
         const glm::vec3 weight = s.pdf > 0.0f ? s.weight : glm::vec3(0.0f);
-        return {s.wi, weight, glm::vec3(0.0f), false, m.is_emissive()};
+        return {s.wi, weight, glm::vec3(0.0f), false, false};
     }
 };
 

@@ -160,6 +160,16 @@ TEST(Receiver, BatchTargetsAreEachEntrysRadiance) {
     expect_batch_matches_points(
         PlainDiffuse{{0.1f, 0.0f, 0.2f}, {0.0f, 1.0f, 0.0f}, {0.8f, 0.5f, 0.2f}}, 1e-5f);
     expect_batch_matches_points(FromAbove{{-0.3f, 0.0f, 0.1f}}, 1e-5f);
+    // A glossy receiver that sees a VplPartition's VPLs (the clamped points) through its diffuse
+    // lobe alone does so in the batch as at each point.
+    const restir::GlossyBsdf bsdf =
+        restir::GlossyBsdf::from_metallic_roughness({0.8f, 0.5f, 0.2f}, 0.0f, 0.3f, 0.04f);
+    const glm::vec3 wo = glm::normalize(glm::vec3(0.3f, 1.0f, 0.1f));
+    for (const bool diffuse_only : {false, true})
+        expect_batch_matches_points(
+            restir::GlossyReceiver{
+                {0.1f, 0.0f, 0.2f}, {0.0f, 1.0f, 0.0f}, wo, bsdf, 0.0f, diffuse_only},
+            1e-5f);
 }
 
 } // namespace
