@@ -639,6 +639,35 @@ __global__ void glossy_receiver_kernel(float* planes, restir::LightSampleRef* re
              from_tiles.contribution_weight;
 }
 
+// VPL GI without bias: a VPL of the partition (the clamped falloff) seen through a glossy
+// receiver's diffuse lobe, in the batch loop and at its point, and a path sample's path part.
+__global__ void vpl_partition_kernel(float* planes, restir::LightSampleRef* references,
+                                     const restir::PathSample* samples, float* out) {
+    const auto i = static_cast<std::uint32_t>(blockIdx.x * blockDim.x + threadIdx.x);
+    const restir::LightTileArrays tiles{planes, references, 4u, 64u};
+    const restir::VplPartition partition{0.1f};
+    const restir::GlossyReceiver receiver{
+        glm::vec3(static_cast<float>(i), 0.0f, 0.0f),
+        glm::vec3(0.0f, 1.0f, 0.0f),
+        glm::normalize(glm::vec3(0.3f, 1.0f, 0.1f)),
+        restir::GlossyBsdf::from_metallic_roughness(glm::vec3(0.9f), 0.0f, 0.2f),
+        0.0f,
+        true};
+    restir::CandidateBlock<8u> block;
+    restir::evaluate_tile_block<8u, restir::ChannelNorm::euclidean>(tiles, i % 4u, 0u, receiver,
+                                                                    block);
+    restir::LightSample vpl;
+    vpl.position = glm::vec3(0.0f, 1.0f, 0.0f);
+    vpl.normal = glm::vec3(0.0f, -1.0f, 0.0f);
+    vpl.radiance = glm::vec3(1.0f);
+    vpl.area_pdf = 1.0f;
+    vpl.is_delta = true;
+    const restir::LightPointSample point =
+        restir::make_light_point_sample(0u, vpl, partition.vpl_falloff());
+    out[i] = block.target[0] + block.target[7] + restir::unshadowed_radiance(point, receiver).x +
+             restir::partitioned_path_radiance(samples[i], receiver, partition).y;
+}
+
 // The environment light: a draw, the pdf and radiance of its direction, and the mapping both
 // ways, one draw per thread (the view's arrays copied to device memory by the caller).
 __global__ void environment_kernel(restir::EnvironmentMapView environment, float* out) {
