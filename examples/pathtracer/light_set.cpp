@@ -35,14 +35,13 @@ BoundingSphere bounding_sphere(const Scene& scene) {
     return {0.5f * (box.lower + box.upper), 0.5f * scene_size(scene)};
 }
 
-// Yuksel's falloff (gi vpl), or the clamped one of the partition (gi vpl-unbiased), at
-// --attenuation-radius or a share of the scene's size.
+// Yuksel's falloff (gi vpl, --attenuation-radius or 2 % of the scene's size), or the clamped
+// one of the partition (gi vpl-unbiased, --partition-radius of the scene's size).
 restir::Falloff vpl_falloff(const RenderSettings& settings, float extent) {
-    const bool unbiased = settings.gi == GlobalIllumination::vpl_unbiased;
-    const float radius = settings.attenuation_radius > 0.0f ? settings.attenuation_radius
-                         : unbiased                         ? default_partition_radius * extent
-                                                            : 0.02f * extent;
-    return unbiased ? restir::VplPartition{radius}.vpl_falloff() : restir::Falloff::yuksel(radius);
+    if (settings.gi == GlobalIllumination::vpl_unbiased)
+        return restir::VplPartition{settings.partition_radius * extent}.vpl_falloff();
+    return restir::Falloff::yuksel(settings.attenuation_radius > 0.0f ? settings.attenuation_radius
+                                                                      : 0.02f * extent);
 }
 
 } // namespace

@@ -357,10 +357,12 @@ void add_indirect_light_options(CLI::App& app, RenderSettings& settings,
         ->check(CLI::Range(0u, 1'000'000u));
     app.add_option("--vpl-seed", vpl_seed, "Seed of the photons (default: --seed)");
     app.add_option("--attenuation-radius", settings.attenuation_radius,
-                   "The VPLs' radius in scene units: Yuksel's attenuation radius (gi vpl; 0: 2 % "
-                   "of the scene size), or the radius within which path samples take over (gi "
-                   "vpl-unbiased; 0: 10 % of the scene size)")
+                   "Yuksel attenuation radius of VPLs in scene units (0: 2 % of the scene size)")
         ->check(finite_number & CLI::Range(0.0f, 1e30f));
+    app.add_option("--partition-radius", settings.partition_radius,
+                   "gi vpl-unbiased: the distance, as a share of the scene size, within which "
+                   "path samples carry the light that VPLs carry beyond it")
+        ->check(finite_number & CLI::Range(1e-4f, 10.0f));
     app.add_option("--max-depth", settings.max_depth,
                    "Path length limit (reference, gi path, restir-gi and restir-pt)")
         ->check(CLI::Range(1u, 1024u));

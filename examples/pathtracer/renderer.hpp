@@ -51,9 +51,6 @@ inline bool reuses_paths(GlobalIllumination gi) {
     return gi == GlobalIllumination::restir_gi || gi == GlobalIllumination::restir_pt ||
            gi == GlobalIllumination::vpl_unbiased;
 }
-/// The radius of restir::VplPartition (gi vpl-unbiased) where --attenuation-radius is not
-/// given, relative to the scene's size (docs/vpl-unbiased.md measures the choice).
-inline constexpr float default_partition_radius = 0.1f;
 /// Where RIS candidates come from: lights in proportion to their power (from light tiles), or
 /// uniformly (from light tiles), or by their importance at the pixel's surface (a light BVH,
 /// drawn per pixel), or by their importance in the pixel's cell of a world-space grid (tiles
@@ -132,9 +129,11 @@ struct RenderSettings {
     /// A new, independent VPL set every this many frames (0: one set for the whole render), so
     /// that the accumulated image converges to the path-traced answer, not to one set's.
     std::uint32_t vpl_reshoot_interval = 0;
-    /// The VPLs' radius: Yuksel's r (gi vpl; 0: 2 % of the scene's size), or the partition's r
-    /// (gi vpl-unbiased, restir::VplPartition; 0: `default_partition_radius` of the scene's size).
-    float attenuation_radius = 0.0f;
+    float attenuation_radius = 0.0f; ///< Yuksel radius for VPLs; 0: 2 % of the scene's size.
+    /// The radius of restir::VplPartition (gi vpl-unbiased) as a share of the scene's size:
+    /// within it, and from surfaces without VPLs, path samples carry the light; beyond it VPLs
+    /// (docs/vpl-unbiased.md measures the choice).
+    float partition_radius = 0.1f;
     std::uint32_t max_depth = 8; ///< Path length limit (reference, gi path, restir-gi, restir-pt).
     /// The shift of ReSTIR GI's samples (its `min_roughness`: which sample points reconnect).
     restir::ReconnectionShift reconnection{};

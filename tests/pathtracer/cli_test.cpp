@@ -108,7 +108,9 @@ TEST(Cli, HelpDocumentsEveryFlagWithItsDefault) {
                              "--out-frame",
                              "--gi-min-roughness",
                              "--pt-min-roughness",
-                             "--pt-min-distance"})
+                             "--pt-min-distance",
+                             "--partition-radius",
+                             "vpl-unbiased"})
         EXPECT_NE(r.out.find(flag), std::string::npos) << flag;
     EXPECT_NE(r.out.find("restir"), std::string::npos);
     EXPECT_NE(r.out.find("cornell-glossy"), std::string::npos);
@@ -136,6 +138,10 @@ TEST(Cli, BadInputIsOneLineAndStatusTwo) {
     expect_one_line_error(small("--method uniform --gi restir-pt"), "--method restir");
     expect_one_line_error(small("--gi restir-pt --pt-min-roughness 2"), "pt-min-roughness");
     expect_one_line_error(small("--gi restir-pt --pt-min-distance -1"), "pt-min-distance");
+    expect_one_line_error(small("--method ris --gi vpl-unbiased"), "--method restir");
+    expect_one_line_error(small("--gi vpl-unbiased --indirect-only"), "--indirect-only");
+    expect_one_line_error(small("--gi vpl-unbiased --partition-radius 0"), "partition-radius");
+    expect_one_line_error(small("--gi vpl-unbiased --partition-radius inf"), "partition-radius");
     expect_one_line_error(small("--scene " + (dir / "missing.obj").string()), "missing.obj");
 
     std::ofstream(dir / "broken.obj") << "v 0 0 0\nf 1 2 3\n";
@@ -439,11 +445,11 @@ TEST(Cli, RendersTheSunSkyScene) {
     }
 }
 
-// ReSTIR GI and PT render in every scene, under a turning camera too, report their phase and
-// write their last frame alone.
+// ReSTIR GI and PT, and unbiased VPL GI, render in every scene, under a turning camera too,
+// report their phase and write their last frame alone.
 TEST(Cli, RendersRestirGiAndPt) {
     const fs::path frame = scratch_dir() / "gi-frame.pfm";
-    for (const std::string gi : {"restir-gi", "restir-pt"})
+    for (const std::string gi : {"restir-gi", "restir-pt", "vpl-unbiased"})
         for (const char* scene : {"cornell", "cornell-glossy", "sun-sky"}) {
             fs::remove(frame);
             const Outcome r =

@@ -41,7 +41,8 @@ pt::RenderSettings small(const pt::Scene& scene, const VplSetup& setup, std::uin
     s.threads = 2;
     s.seed = seed; // the photons' seed too: each seed has its own VPL set
     s.photons.seed = seed;
-    s.attenuation_radius = setup.radius * pt::scene_size(scene);
+    if (setup.radius > 0.0f)
+        s.partition_radius = setup.radius;
     return s;
 }
 
