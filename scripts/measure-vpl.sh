@@ -53,7 +53,7 @@ row() {
   awk -v label="$1" -v ms="$ms" -v f="$frame_mse" -v base="$4" -v r="$(stat "$csv" rmse last)" \
     -v b="$(stat "$csv" bias last)" -v w="$worst" 'BEGIN {
     printf "| %s | %+.2f %% | %.4g | %.3g | %.4g | %.1f %% | %s |\n", label, 100 * b, f,
-      base > 0 ? f * ms / base : 1, r * r, 100 * w, ms }'
+      (base > 0 ? f * ms / base : 1), r * r, 100 * w, ms }'
 }
 
 scene_table() {
