@@ -89,7 +89,7 @@ bias_of() {
   for seed in $(seq 1 "$seeds"); do
     run "$@" --width 160 --height 90 --frames 8 --seed "$seed" --out "$dir/bias.pfm"
     "$compare" "$dir/bias.pfm" --reference "$image" "${region_flags[@]}" |
-      awk '$1 == "bias" { print $2 }'
+      awk -v key="${region:+region_}bias" '$1 == key { print $2 }'
   done | awk -v label="$label" '{ s += $1; q += $1 * $1; n++ } END {
     m = s / n; printf "| %s | %+.2f %% +- %.2f %% |\n", label, 100 * m, 100 * sqrt((q / n - m * m) / (n - 1)) }'
 }

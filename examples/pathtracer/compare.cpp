@@ -7,6 +7,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -39,6 +40,17 @@ void print_errors(const pt::Image& image, const pt::Image& reference) {
         print("acf_y" + std::to_string(lag), acf.acf_y[lag]);
 }
 
+// The pixels of `image` in `area` (clipped to the image) as an image of their own.
+pt::Image crop(const pt::Image& image, const pt::Region& area) {
+    const std::uint32_t x1 = std::min(area.x1, image.width), y1 = std::min(area.y1, image.height);
+    const std::uint32_t x0 = std::min(area.x0, x1), y0 = std::min(area.y0, y1);
+    pt::Image out(x1 - x0, y1 - y0);
+    for (std::uint32_t y = y0; y < y1; ++y)
+        for (std::uint32_t x = x0; x < x1; ++x)
+            out.at(x - x0, y - y0) = image.at(x, y);
+    return out;
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -51,7 +63,8 @@ int main(int argc, char** argv) {
                  "rel_mse, fireflies, p999, worst20_share (the 20 worst pixels' share of the "
                  "squared error), row/column_ratio and acf_x/acf_y 1-8 of the error), "
                  "and image_row_ratio/image_column_ratio, the row structure of IMAGE itself in "
-                 "a region, one `name value` line each"};
+                 "a region, and with a region and a reference region_bias, the relative mean "
+                 "difference there; one `name value` line each"};
     app.add_option("image", image_path, "The image to measure (.exr or .pfm)")->required();
     app.add_option("--reference", reference_path,
                    "Reference image (.exr or .pfm) of the same size; without it only the "
@@ -59,7 +72,7 @@ int main(int argc, char** argv) {
     CLI::Option* region =
         app.add_option("--region", region_values,
                        "Pixels x0,y0,x1,y1 (half-open, y = 0 the top row) of the image's own row "
-                       "structure (default: the whole image)")
+                       "structure and of region_bias (default: the whole image)")
             ->delimiter(',')
             ->expected(4);
     CLI::Option* wall = app.add_flag("--cornell-back-wall", back_wall,
@@ -86,8 +99,13 @@ int main(int argc, char** argv) {
         else if (!region_values.empty())
             area = {region_values[0], region_values[1], region_values[2], region_values[3]};
         const pt::RowStructure own = pt::row_structure(image, area);
-        if (!reference_path.empty())
-            print_errors(image, read_finite(reference_path));
+        if (!reference_path.empty()) {
+            const pt::Image reference = read_finite(reference_path);
+            print_errors(image, reference);
+            if (back_wall || !region_values.empty())
+                print("region_bias",
+                      pt::relative_mean_difference(crop(image, area), crop(reference, area)));
+        }
         print("image_row_ratio", own.row_ratio);
         print("image_column_ratio", own.column_ratio);
     } catch (const std::exception& e) {

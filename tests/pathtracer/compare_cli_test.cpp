@@ -116,6 +116,27 @@ TEST(CompareCli, PrintsEveryMeasureAgainstAReference) {
     expect_close(r, "image_column_ratio", own.column_ratio);
 }
 
+// With a region and a reference, region_bias is the relative mean difference of the region's
+// pixels alone: (sum of the image's channels there) / (the reference's) - 1.
+TEST(CompareCli, RegionBiasIsTheRegionsRelativeMeanDifference) {
+    const Pair pair;
+    const Outcome r = run(pair.image_path.string() + " --reference " +
+                          pair.reference_path.string() + " --region 3,4,17,25");
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(r.lines, 27);
+    double image_sum = 0.0, reference_sum = 0.0;
+    for (std::uint32_t y = 4; y < 25; ++y)
+        for (std::uint32_t x = 3; x < 17; ++x) {
+            const glm::vec3 a = pair.image.at(x, y), b = pair.reference.at(x, y);
+            for (int c = 0; c < 3; ++c) {
+                image_sum += static_cast<double>(a[c]);
+                reference_sum += static_cast<double>(b[c]);
+            }
+        }
+    expect_close(r, "region_bias", image_sum / reference_sum - 1.0);
+    expect_close(r, "bias", pt::relative_mean_difference(pair.image, pair.reference));
+}
+
 TEST(CompareCli, WithoutAReferenceMeasuresTheImagesOwnRows) {
     const Pair pair;
     Outcome r = run(pair.reference_path.string() + " --region 2,3,30,20");
