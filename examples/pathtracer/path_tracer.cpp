@@ -146,6 +146,16 @@ restir::PathSample PathTracer::path_sample(const GSurface& s, restir::Pcg32& rng
     return sample;
 }
 
+glm::vec3 PathTracer::partitioned_indirect(const GSurface& s, restir::Pcg32& rng,
+                                           const restir::VplPartition& partition) const {
+    const restir::PathSample x = path_sample(s, rng, &partition);
+    if (!(x.source_pdf > 0.0f))
+        return glm::vec3(0.0f);
+    return with_receiver(s, [&](const auto& receiver) {
+        return restir::partitioned_path_radiance(x, receiver, partition) / x.source_pdf;
+    });
+}
+
 glm::vec3 PathTracer::radiance_from(const GSurface& start, restir::Pcg32& rng, bool direct,
                                     bool bounce_further, std::uint32_t first_depth) const {
     const SceneEmitters& emitters = lights_.emitters();

@@ -45,6 +45,10 @@ public:
     /// `partition` (gi vpl-unbiased), Lo is left 0 where the sample's path part is 0.
     restir::PathSample path_sample(const GSurface& s, restir::Pcg32& rng,
                                    const restir::VplPartition* partition = nullptr) const;
+    /// One path sample's path part at `s` over its density (gi vpl-unbiased with independent
+    /// path samples): restir::partitioned_path_radiance / source pdf.
+    glm::vec3 partitioned_indirect(const GSurface& s, restir::Pcg32& rng,
+                                   const restir::VplPartition& partition) const;
     /// One VPL chosen by power, its light reflected at `s` by its BSDF (no MIS: VPLs are
     /// points). VPLs emit as diffuse surfaces whatever the material they lie on.
     glm::vec3 vpl_nee(const GSurface& s, restir::Pcg32& rng) const;

@@ -363,6 +363,13 @@ void add_indirect_light_options(CLI::App& app, RenderSettings& settings,
                    "gi vpl-unbiased: the distance, as a share of the scene size, within which "
                    "path samples carry the light that VPLs carry beyond it")
         ->check(finite_number & CLI::Range(1e-4f, 10.0f));
+    app.add_option("--vpl-path-part", settings.vpl_path_part,
+                   "gi vpl-unbiased: the light that VPLs leave out from path samples reused by "
+                   "ReSTIR GI's frame (reuse) or from one independent path sample a pixel "
+                   "(independent)")
+        ->transform(names<VplPathPart>(
+            {{"reuse", VplPathPart::reuse}, {"independent", VplPathPart::independent}}))
+        ->default_str("independent");
     app.add_option("--max-depth", settings.max_depth,
                    "Path length limit (reference, gi path, restir-gi and restir-pt)")
         ->check(CLI::Range(1u, 1024u));

@@ -74,7 +74,9 @@ struct Renderer::Impl {
         if (settings.method == Method::restir)
             restir.emplace(settings, blocks, gbuffer, *candidates, light_set, paths, camera,
                            previous_camera);
-        if (settings.method == Method::restir && reuses_paths(settings.gi))
+        const bool independent_paths = settings.gi == GlobalIllumination::vpl_unbiased &&
+                                       settings.vpl_path_part == VplPathPart::independent;
+        if (settings.method == Method::restir && reuses_paths(settings.gi) && !independent_paths)
             gi.emplace(settings, blocks, gbuffer, rays, paths, light_set, previous_camera,
                        ray_offset);
     }

@@ -46,7 +46,8 @@ inline bool traces_indirect_paths(GlobalIllumination gi) {
            gi == GlobalIllumination::restir_pt;
 }
 /// Whether `gi` reuses path samples in a ReSTIR frame of its own (restir-gi, restir-pt, and
-/// the path part of vpl-unbiased).
+/// the path part of vpl-unbiased unless independent path samples estimate it), so that it needs
+/// --method restir (or reference).
 inline bool reuses_paths(GlobalIllumination gi) {
     return gi == GlobalIllumination::restir_gi || gi == GlobalIllumination::restir_pt ||
            gi == GlobalIllumination::vpl_unbiased;
@@ -68,6 +69,9 @@ enum class LightPoints { area, solid_angle, automatic };
 /// BSDF-sampled candidates (cosine-weighted at diffuse pixels), which is what importance
 /// sampling is measured against.
 enum class EnvironmentSampling { importance, bsdf };
+/// How gi vpl-unbiased estimates the path part of the indirect light (restir::VplPartition):
+/// path samples reused by ReSTIR GI's frame, or one independent path sample a pixel a frame.
+enum class VplPathPart { reuse, independent };
 /// A still camera, or one that turns about its look-at point a little every frame.
 enum class CameraMotion { none, orbit };
 
@@ -134,6 +138,8 @@ struct RenderSettings {
     /// within it, and from surfaces without VPLs, path samples carry the light; beyond it VPLs
     /// (docs/vpl-unbiased.md measures the choice).
     float partition_radius = 0.1f;
+    /// How gi vpl-unbiased estimates the path part (--vpl-path-part).
+    VplPathPart vpl_path_part = VplPathPart::independent;
     std::uint32_t max_depth = 8; ///< Path length limit (reference, gi path, restir-gi, restir-pt).
     /// The shift of ReSTIR GI's samples (its `min_roughness`: which sample points reconnect).
     restir::ReconnectionShift reconnection{};

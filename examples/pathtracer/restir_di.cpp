@@ -21,6 +21,7 @@ struct RestirDi::Stages {
     InitialCandidates& candidates;
     const Unified& lights;
     const restir::Falloff& falloff;
+    const restir::VplPartition partition; // gi vpl-unbiased
     const PathTracer& paths;
     const Camera& camera;
     const Camera& previous_camera;
@@ -37,7 +38,8 @@ struct RestirDi::Stages {
            const LightSet& light_set, const PathTracer& p, const Camera& cam,
            const Camera& previous)
         : settings(rs), blocks(pb), gbuffer(g), candidates(c), lights(light_set.lights()),
-          falloff(light_set.falloff()), paths(p), camera(cam), previous_camera(previous) {
+          falloff(light_set.falloff()), partition(light_set.partition()), paths(p), camera(cam),
+          previous_camera(previous) {
         const std::size_t pixels = std::size_t{settings.width} * settings.height;
         reservoirs.resize(pixels);
         if (settings.packed_history)
@@ -168,6 +170,12 @@ struct RestirDi::Stages {
             restir::Pcg32 rng =
                 restir::make_pixel_rng(i, frame_index, RenderStream::path, settings.seed);
             color += paths.path_radiance(s, rng, false, true);
+        }
+        if (settings.gi == GlobalIllumination::vpl_unbiased &&
+            settings.vpl_path_part == VplPathPart::independent) {
+            restir::Pcg32 rng =
+                restir::make_pixel_rng(i, frame_index, RenderStream::path, settings.seed);
+            color += paths.partitioned_indirect(s, rng, partition);
         }
         return color;
     }

@@ -26,6 +26,7 @@ struct VplSetup {
     GlobalIllumination gi;
     /// The partition's radius relative to the scene's size (0: the renderer's default).
     float radius = 0.0f;
+    pt::VplPathPart path_part = pt::VplPathPart::independent;
 };
 
 pt::RenderSettings small(const pt::Scene& scene, const VplSetup& setup, std::uint64_t seed) {
@@ -43,6 +44,7 @@ pt::RenderSettings small(const pt::Scene& scene, const VplSetup& setup, std::uin
     s.photons.seed = seed;
     if (setup.radius > 0.0f)
         s.partition_radius = setup.radius;
+    s.vpl_path_part = setup.path_part;
     return s;
 }
 
@@ -54,23 +56,31 @@ void expect_agreement(const pt::Scene& scene, const std::vector<VplSetup>& setup
 }
 
 const VplSetup reference{"reference", Method::reference, GlobalIllumination::path};
+// The path part from independent path samples (the default), and reused by ReSTIR GI's frame.
 const VplSetup unbiased{"vpl-unbiased", Method::restir, GlobalIllumination::vpl_unbiased};
+const VplSetup reused{"vpl-unbiased, paths reused", Method::restir,
+                      GlobalIllumination::vpl_unbiased, 0.0f, pt::VplPathPart::reuse};
 
 // At any radius: with r 1 % of the scene's size VPLs carry nearly all the diffuse light, with
 // r 100 % path samples carry most of it.
 TEST(VplUnbiased, DiffuseBoxImageIsThePathTracers) {
+    constexpr auto reuse = pt::VplPathPart::reuse;
+    constexpr auto vpl_unbiased = GlobalIllumination::vpl_unbiased;
     expect_agreement(
         pt::make_cornell_box(),
         {reference,
          unbiased,
-         {"vpl-unbiased, r 1 %", Method::restir, GlobalIllumination::vpl_unbiased, 0.01f},
-         {"vpl-unbiased, r 100 %", Method::restir, GlobalIllumination::vpl_unbiased, 1.0f}});
+         reused,
+         {"vpl-unbiased, r 1 %", Method::restir, vpl_unbiased, 0.01f},
+         {"vpl-unbiased, r 100 %", Method::restir, vpl_unbiased, 1.0f},
+         {"vpl-unbiased, r 1 %, paths reused", Method::restir, vpl_unbiased, 0.01f, reuse},
+         {"vpl-unbiased, r 100 %, paths reused", Method::restir, vpl_unbiased, 1.0f, reuse}});
 }
 
 // The polished floor and the metal block take their VPL light through the diffuse lobe alone,
 // and hold no VPL: their light reaches the walls through path samples.
 TEST(VplUnbiased, GlossyBoxImageIsThePathTracers) {
-    expect_agreement(pt::make_glossy_cornell_box(), {reference, unbiased});
+    expect_agreement(pt::make_glossy_cornell_box(), {reference, unbiased, reused});
 }
 
 TEST(VplUnbiased, SharedCornellBoxImageIsThePathTracers) {
@@ -79,7 +89,7 @@ TEST(VplUnbiased, SharedCornellBoxImageIsThePathTracers) {
         GTEST_SKIP() << obj << " is not there";
     pt::Scene scene = pt::load_obj(obj);
     pt::make_materials_diffuse(scene); // VPLs lie on Lambertian surfaces alone
-    expect_agreement(scene, {reference, unbiased});
+    expect_agreement(scene, {reference, unbiased, reused});
 }
 
 } // namespace
