@@ -64,17 +64,22 @@ scene_table() {
   echo "## $name, ${width}x$height, $frames frames"
   echo "| method | bias | per-frame MSE | MSE x ms over VPL GI's | $frames-frame MSE | worst-20 share | frame ms |"
   echo "|---|---|---|---|---|---|---|"
-  for gi in vpl vpl-unbiased restir-gi path; do
-    local label=$gi
-    case $gi in
-      vpl) label="VPL GI" ;; vpl-unbiased) label="unbiased VPL GI" ;;
-      restir-gi) label="ReSTIR GI" ;; path) label="path tracing" ;;
+  for method in vpl vpl-unbiased vpl-unbiased-reuse restir-gi path; do
+    local label gi=$method method_flags=()
+    case $method in
+      vpl) label="VPL GI" ;;
+      vpl-unbiased) label="unbiased VPL GI" ;;
+      vpl-unbiased-reuse)
+        label="unbiased VPL GI, paths reused" gi=vpl-unbiased method_flags=(--vpl-path-part reuse) ;;
+      restir-gi) label="ReSTIR GI" ;;
+      path) label="path tracing" ;;
     esac
-    run "${flags[@]}" --width "$width" --height "$height" --gi "$gi" --frames "$frames" --seed 1 \
-      --reference "$reference_image" --csv "$dir/$name-$gi.csv" --out "$dir/$name-$gi.pfm" \
-      --out "$dir/$name-$gi.png" --out-frame "$dir/$name-$gi-frame.pfm"
-    row "$label" "$name-$gi" "$reference_image" "$base"
-    [ "$gi" = vpl ] && base=$(awk -v f="$(stat "$dir/$name-vpl.csv" frame_rmse meansq)" \
+    run "${flags[@]}" --width "$width" --height "$height" --gi "$gi" "${method_flags[@]}" \
+      --frames "$frames" --seed 1 --reference "$reference_image" --csv "$dir/$name-$method.csv" \
+      --out "$dir/$name-$method.pfm" --out "$dir/$name-$method.png" \
+      --out-frame "$dir/$name-$method-frame.pfm"
+    row "$label" "$name-$method" "$reference_image" "$base"
+    [ "$method" = vpl ] && base=$(awk -v f="$(stat "$dir/$name-vpl.csv" frame_rmse meansq)" \
       -v ms="$(stat "$dir/$name-vpl.csv" frame_ms median)" 'BEGIN { print f * ms }')
   done
 }
@@ -102,31 +107,36 @@ bias_study() {
   for name in cornell cornell-glossy cornell-obj; do
     read -r -a flags <<<"$(scene_flags "$name")"
     reference_image=$(reference "$name-160x90" 8192 "${flags[@]}" --width 160 --height 90 --gi path)
-    for gi in vpl vpl-unbiased; do
-      bias_of "$name, $gi" "$reference_image" "" "${flags[@]}" --gi "$gi"
+    for gi in vpl vpl-unbiased "vpl-unbiased --vpl-path-part reuse"; do
+      read -r -a gi_flags <<<"$gi"
+      bias_of "$name, $gi" "$reference_image" "" "${flags[@]}" --gi "${gi_flags[@]}"
       [ "$name" = cornell-glossy ] &&
-        bias_of "$name, $gi, metal block" "$reference_image" 64,40,77,75 "${flags[@]}" --gi "$gi"
+        bias_of "$name, $gi, metal block" "$reference_image" 64,40,77,75 "${flags[@]}" \
+          --gi "${gi_flags[@]}"
     done
   done
 }
 
 radius_table() {
-  local reference_image
-  reference_image=$(reference "cornell-glossy-${width}x$height" "$reference_spp" --scene cornell-glossy \
-    --width "$width" --height "$height" --gi path)
-  echo "## the partition's radius, cornell-glossy, ${width}x$height, $frames frames"
-  echo "| radius (of the scene's size) | per-frame MSE | $frames-frame MSE | worst-20 share | frame ms |"
-  echo "|---|---|---|---|---|"
-  for share in 0.02 0.05 0.1 0.2 0.4; do
-    local csv=$dir/radius-$share.csv worst
-    run --scene cornell-glossy --width "$width" --height "$height" --gi vpl-unbiased \
-      --partition-radius "$share" --frames "$frames" --seed 1 --reference "$reference_image" \
-      --csv "$csv" --out "$dir/radius-$share.pfm" --out-frame "$dir/radius-$share-frame.pfm"
-    worst=$("$compare" "$dir/radius-$share-frame.pfm" --reference "$reference_image" |
-      awk '$1 == "worst20_share" { print $2 }')
-    awk -v s="$share" -v f="$(stat "$csv" frame_rmse meansq)" -v r="$(stat "$csv" rmse last)" \
-      -v w="$worst" -v ms="$(stat "$csv" frame_ms median)" \
-      'BEGIN { printf "| %s | %.4g | %.4g | %.1f %% | %s |\n", s, f, r * r, 100 * w, ms }'
+  local name reference_image flags
+  echo "## the partition's radius, ${width}x$height, $frames frames"
+  echo "| scene | radius (of the scene's size) | per-frame MSE | $frames-frame MSE | worst-20 share | frame ms |"
+  echo "|---|---|---|---|---|---|"
+  for name in cornell cornell-glossy; do
+    read -r -a flags <<<"$(scene_flags "$name")"
+    reference_image=$(reference "$name-${width}x$height" "$reference_spp" "${flags[@]}" \
+      --width "$width" --height "$height" --gi path)
+    for share in 0.0125 0.025 0.05 0.1 0.2; do
+      local csv=$dir/radius-$name-$share.csv worst
+      run "${flags[@]}" --width "$width" --height "$height" --gi vpl-unbiased \
+        --partition-radius "$share" --frames "$frames" --seed 1 --reference "$reference_image" \
+        --csv "$csv" --out "$dir/radius.pfm" --out-frame "$dir/radius-frame.pfm"
+      worst=$("$compare" "$dir/radius-frame.pfm" --reference "$reference_image" |
+        awk '$1 == "worst20_share" { print $2 }')
+      awk -v n="$name" -v s="$share" -v f="$(stat "$csv" frame_rmse meansq)" \
+        -v r="$(stat "$csv" rmse last)" -v w="$worst" -v ms="$(stat "$csv" frame_ms median)" \
+        'BEGIN { printf "| %s | %s | %.4g | %.4g | %.1f %% | %s |\n", n, s, f, r * r, 100 * w, ms }'
+    done
   done
 }
 

@@ -137,7 +137,7 @@ struct RenderSettings {
     /// The radius of restir::VplPartition (gi vpl-unbiased) as a share of the scene's size:
     /// within it, and from surfaces without VPLs, path samples carry the light; beyond it VPLs
     /// (docs/vpl-unbiased.md measures the choice).
-    float partition_radius = 0.1f;
+    float partition_radius = 0.05f;
     /// How gi vpl-unbiased estimates the path part (--vpl-path-part).
     VplPathPart vpl_path_part = VplPathPart::independent;
     std::uint32_t max_depth = 8; ///< Path length limit (reference, gi path, restir-gi, restir-pt).
