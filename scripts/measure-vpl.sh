@@ -79,8 +79,10 @@ scene_table() {
       --out "$dir/$name-$method.pfm" --out "$dir/$name-$method.png" \
       --out-frame "$dir/$name-$method-frame.pfm"
     row "$label" "$name-$method" "$reference_image" "$base"
-    [ "$method" = vpl ] && base=$(awk -v f="$(stat "$dir/$name-vpl.csv" frame_rmse meansq)" \
-      -v ms="$(stat "$dir/$name-vpl.csv" frame_ms median)" 'BEGIN { print f * ms }')
+    if [ "$method" = vpl ]; then
+      base=$(awk -v f="$(stat "$dir/$name-vpl.csv" frame_rmse meansq)" \
+        -v ms="$(stat "$dir/$name-vpl.csv" frame_ms median)" 'BEGIN { print f * ms }')
+    fi
   done
 }
 
@@ -110,9 +112,10 @@ bias_study() {
     for gi in vpl vpl-unbiased "vpl-unbiased --vpl-path-part reuse"; do
       read -r -a gi_flags <<<"$gi"
       bias_of "$name, $gi" "$reference_image" "" "${flags[@]}" --gi "${gi_flags[@]}"
-      [ "$name" = cornell-glossy ] &&
+      if [ "$name" = cornell-glossy ]; then
         bias_of "$name, $gi, metal block" "$reference_image" 64,40,77,75 "${flags[@]}" \
           --gi "${gi_flags[@]}"
+      fi
     done
   done
 }
