@@ -2,8 +2,8 @@
 # Helpers of the measurement scripts (sourced): `run` a render quietly under nice, read a
 # column of a render's CSV (`stat`), render a reference once and cache it (`reference`), and
 # the PNG exposure it chose (`exposure`), the indirect light's bias over seeds
-# (`bias_over_seeds`). The caller sets `render` (the restir-render binary)
-# and `dir` (where references and CSVs go).
+# (`bias_over_seeds`), and the flags of the three boxes (`box_scene_flags`). The caller sets
+# `render` (the restir-render binary) and `dir` (where references and CSVs go).
 
 run() { nice -n 10 "$render" "$@" >/dev/null; }
 smaller() { awk -v a="$1" -v b="$2" 'BEGIN { print a < b ? a : b }'; }
@@ -51,4 +51,14 @@ bias_over_seeds() {
     stat "$dir/bias.csv" bias last
   done | awk -v label="$label" '{ s += $1; q += $1 * $1; n++ } END {
     m = s / n; printf "| %s | %+.2f %% +- %.2f %% |\n", label, 100 * m, 100 * sqrt((q / n - m * m) / (n - 1)) }'
+}
+
+# box_scene_flags NAME: restir-render's flags of cornell, cornell-glossy or cornell-obj
+# (../shared/scenes/cornell-box.obj, its materials made Lambertian).
+box_scene_flags() {
+  case "$1" in
+    cornell | cornell-glossy) echo "--scene $1" ;;
+    cornell-obj) echo "--scene ../shared/scenes/cornell-box.obj --materials diffuse" ;;
+    *) echo "unknown scene '$1' (cornell, cornell-glossy, cornell-obj)" >&2; exit 2 ;;
+  esac
 }

@@ -31,18 +31,10 @@ mkdir -p "$dir"
 # shellcheck source=scripts/measure-lib.sh
 source scripts/measure-lib.sh
 
-scene_flags() {
-  case "$1" in
-    cornell | cornell-glossy) echo "--scene $1" ;;
-    cornell-obj) echo "--scene ../shared/scenes/cornell-box.obj --materials diffuse" ;;
-    *) echo "unknown scene '$1' (cornell-glossy, cornell, cornell-obj)" >&2; exit 2 ;;
-  esac
-}
-
 # table SCENE: the three methods' rows.
 table() {
   local name=$1 flags
-  read -r -a flags <<<"$(scene_flags "$name")"
+  read -r -a flags <<<"$(box_scene_flags "$name")"
   local common=("${flags[@]}" --width "$width" --height "$height" --frames "$frames" --seed 2
     --indirect-only)
   local indirect

@@ -36,14 +36,6 @@ mkdir -p "$dir"
 # shellcheck source=scripts/measure-lib.sh
 source scripts/measure-lib.sh
 
-scene_flags() {
-  case "$1" in
-    cornell | cornell-glossy) echo "--scene $1" ;;
-    cornell-obj) echo "--scene ../shared/scenes/cornell-box.obj --materials diffuse" ;;
-    *) echo "unknown scene '$1' (cornell, cornell-glossy, cornell-obj)" >&2; exit 2 ;;
-  esac
-}
-
 # row LABEL NAME REFERENCE BASELINE-PRODUCT: one method's line from its CSV and last frame.
 row() {
   local csv=$dir/$2.csv ms frame_mse worst
@@ -58,7 +50,7 @@ row() {
 
 scene_table() {
   local name=$1 flags reference_image base=0
-  read -r -a flags <<<"$(scene_flags "$name")"
+  read -r -a flags <<<"$(box_scene_flags "$name")"
   reference_image=$(reference "$name-${width}x$height" "$reference_spp" "${flags[@]}" \
     --width "$width" --height "$height" --gi path)
   echo "## $name, ${width}x$height, $frames frames"
@@ -107,7 +99,7 @@ bias_study() {
   echo "|---|---|"
   local name flags reference_image
   for name in cornell cornell-glossy cornell-obj; do
-    read -r -a flags <<<"$(scene_flags "$name")"
+    read -r -a flags <<<"$(box_scene_flags "$name")"
     reference_image=$(reference "$name-160x90" 8192 "${flags[@]}" --width 160 --height 90 --gi path)
     for gi in vpl vpl-unbiased "vpl-unbiased --vpl-path-part reuse"; do
       read -r -a gi_flags <<<"$gi"
@@ -126,7 +118,7 @@ radius_table() {
   echo "| scene | radius (of the scene's size) | per-frame MSE | $frames-frame MSE | worst-20 share | frame ms |"
   echo "|---|---|---|---|---|---|"
   for name in cornell cornell-glossy; do
-    read -r -a flags <<<"$(scene_flags "$name")"
+    read -r -a flags <<<"$(box_scene_flags "$name")"
     reference_image=$(reference "$name-${width}x$height" "$reference_spp" "${flags[@]}" \
       --width "$width" --height "$height" --gi path)
     for share in 0.0125 0.025 0.05 0.1 0.2; do
