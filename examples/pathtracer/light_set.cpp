@@ -69,9 +69,10 @@ void LightSet::shoot_vpls(std::uint32_t generation) {
         restir::PhotonParams params = settings_.photons;
         params.ray_offset = ray_offset_;
         // Without bias the VPLs hold every bounce that the path tracer's paths hold: a VPL at
-        // bounce b lights paths of b + 1 reflections, the path tracer's reach max_depth.
+        // bounce b lights paths of b + 1 reflections, the path tracer's reach max_depth (none
+        // for --max-depth 1, which has no indirect light).
         if (settings_.gi == GlobalIllumination::vpl_unbiased)
-            params.max_bounces = std::max(settings_.max_depth, 2u) - 1u;
+            params.max_bounces = settings_.max_depth - 1u;
         // Set 0 keeps the seed itself; later sets are independent of it and of each other.
         params.seed = generation == 0u
                           ? settings_.photons.seed

@@ -467,6 +467,18 @@ TEST(Cli, RendersRestirGiAndPt) {
         }
 }
 
+// --max-depth 1 has no indirect light: vpl-unbiased shoots no VPL bounce then, and says nothing
+// of photons that left no VPL.
+TEST(Cli, UnbiasedVplsFollowTheDepthLimit) {
+    const Outcome r = run(small("--gi vpl-unbiased --max-depth 1"));
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.out.find(", 0 VPLs"), std::string::npos) << r.out;
+    EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+    const Outcome deeper = run(small("--gi vpl-unbiased --max-depth 3"));
+    EXPECT_EQ(deeper.status, 0) << deeper.err;
+    EXPECT_EQ(deeper.out.find(", 0 VPLs"), std::string::npos) << deeper.out;
+}
+
 // The settings restir-render parses from `arguments` (after the program's name).
 pt::RenderSettings settings_from_command_line(const std::vector<const char*>& arguments) {
     std::vector<const char*> argv{"restir-render"};
