@@ -283,11 +283,14 @@ void run(pt::RenderOptions& options) {
                 renderer.emitter_count(), renderer.vpl_count(), environment_summary(scene).c_str(),
                 settings.width, settings.height, options.frames,
                 candidates_summary(renderer.settings()).c_str());
-    const bool vpl_bounces = settings.gi != pt::GlobalIllumination::vpl_unbiased ||
-                             settings.max_depth > 1; // vpl-unbiased: --max-depth - 1 bounces
+    const bool unbiased = settings.gi == pt::GlobalIllumination::vpl_unbiased;
+    const bool vpl_bounces = !unbiased || settings.max_depth > 1; // unbiased: max-depth - 1
     if (pt::uses_vpls(settings.gi) && settings.vpls > 0 && vpl_bounces && renderer.vpl_count() == 0)
-        std::cerr << "restir-render: warning: no photon left a VPL (no surface reflects "
-                     "light): the indirect light is black\n";
+        std::cerr << (unbiased ? "restir-render: warning: no photon left a VPL (they lie on "
+                                 "Lambertian surfaces alone): path samples carry all the "
+                                 "indirect light\n"
+                               : "restir-render: warning: no photon left a VPL (no surface "
+                                 "reflects light): the indirect light is black\n");
     render_frames(renderer, options, reference, csv);
     write_outputs(renderer, options);
 }

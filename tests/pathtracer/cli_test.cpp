@@ -479,6 +479,25 @@ TEST(Cli, UnbiasedVplsFollowTheDepthLimit) {
     EXPECT_EQ(deeper.out.find(", 0 VPLs"), std::string::npos) << deeper.out;
 }
 
+// A scene without Lambertian surfaces (a glossy floor under a glossy lamp) holds no VPL under
+// vpl-unbiased: path samples carry its indirect light, as it says.
+TEST(Cli, UnbiasedVplsNeedLambertianSurfaces) {
+    const fs::path dir = scratch_dir();
+    std::ofstream(dir / "glossy.mtl") << "newmtl floor\nKd 0.8 0.8 0.8\nKs 0.5 0.5 0.5\nNs 100\n"
+                                      << "newmtl lamp\nKd 0.8 0.8 0.8\nKs 0.5 0.5 0.5\nNs 100\n"
+                                      << "Ke 5 5 5\n";
+    std::ofstream(dir / "glossy.obj")
+        << "mtllib glossy.mtl\nv -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\n"
+        << "v -0.2 1 -0.2\nv 0.2 1 -0.2\nv 0.2 1 0.2\nv -0.2 1 0.2\n"
+        << "usemtl floor\nf 1 4 3\nf 1 3 2\nusemtl lamp\nf 5 6 7\nf 5 7 8\n";
+    const Outcome r =
+        run("--width 12 --height 8 --frames 1 --gi vpl-unbiased --vpls 1000 --scene " +
+            (dir / "glossy.obj").string() + " --out " + (dir / "glossy.png").string());
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.out.find(", 0 VPLs"), std::string::npos) << r.out;
+    EXPECT_NE(r.err.find("path samples carry all the indirect light"), std::string::npos) << r.err;
+}
+
 // The settings restir-render parses from `arguments` (after the program's name).
 pt::RenderSettings settings_from_command_line(const std::vector<const char*>& arguments) {
     std::vector<const char*> argv{"restir-render"};
