@@ -41,9 +41,7 @@ struct GlossyReceiver {
     /// to at least `sphere_min_alpha`.
     RESTIR_HOST_DEVICE RESTIR_FORCE_INLINE glm::vec3 reflected(glm::vec3 wi,
                                                                float sphere_radius) const {
-        const float alpha = ggx_alpha(bsdf.roughness);
-        const float widened = min_of(max_of(alpha + 0.5f * sphere_radius, sphere_min_alpha), 1.0f);
-        return bsdf.evaluate_cos(normal, wo, wi, sphere_radius > 0.0f ? widened : alpha);
+        return reflected(wi, sphere_radius, false);
     }
     /// The same, where `from_vpl` marks light from a VPL of a `VplPartition`: its diffuse lobe
     /// alone where `vpls_diffuse_only` (a select, not a branch: for the batch loop).

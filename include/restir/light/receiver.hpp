@@ -28,8 +28,8 @@ namespace restir {
 /// them (`GlossyReceiver::sphere_min_alpha`).
 /// Optional: `r.reflected(wi, sphere_radius, from_vpl)` -> glm::vec3, the same, where
 /// `from_vpl` is true for point lights with the clamped inverse-square falloff (the VPLs of a
-/// `VplPartition`, which reach a receiver through its lobes of `VplPartition`'s choice:
-/// `GlossyReceiver::vpls_diffuse_only`); the library calls it before the form above.
+/// `VplPartition`), so that a receiver may let them reach only some of its lobes
+/// (`GlossyReceiver::vpls_diffuse_only`); the library calls it before the form above.
 template <class R>
 concept Receiver = requires(const R& r, glm::vec3 wi) {
     { r.position } -> std::convertible_to<glm::vec3>;

@@ -12,7 +12,7 @@
 ///   path part: int Lr (f - f_v h w(d)) cos_x V dw, which path samples estimate: the specular
 ///              lobes whole, and the diffuse lobe near x (d < r) and from surfaces without VPLs.
 /// This is Kollig and Keller's (2004) bias compensation of clamped VPLs, its compensation
-/// carried by reused path samples instead of a path traced per VPL.
+/// estimated by path samples that ReSTIR can reuse.
 #pragma once
 
 #include "restir/config.hpp"
