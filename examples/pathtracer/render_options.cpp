@@ -99,7 +99,7 @@ void add_scene_options(CLI::App& app, RenderOptions& options) {
                    "path (path-traced bounces), restir-gi (path samples reused over time and "
                    "space with the reconnection shift) or restir-pt (whole paths reused with the "
                    "hybrid shift), or vpl-unbiased (VPLs beyond a radius on Lambertian surfaces, "
-                   "path samples reused as restir-gi's for the rest: no bias); restir-gi, "
+                   "path samples for the rest: no bias); restir-gi, "
                    "restir-pt and vpl-unbiased: --method restir or reference")
         ->transform(names<GlobalIllumination>({{"none", GlobalIllumination::none},
                                                {"vpl", GlobalIllumination::vpl},

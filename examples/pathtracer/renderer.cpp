@@ -263,10 +263,12 @@ std::uint64_t estimated_memory_bytes(const RenderSettings& settings, bool with_r
     // the BSDF).
     // ReSTIR GI adds three buffers of 72-byte path reservoirs, ReSTIR PT three of 112 bytes.
     const bool restir = settings.method == Method::restir;
-    const std::uint64_t paths = !restir ? 0u
-                                : settings.gi == GlobalIllumination::restir_gi ||
-                                        settings.gi == GlobalIllumination::vpl_unbiased
-                                    ? 216u
+    // gi vpl-unbiased keeps ReSTIR GI's buffers only when it reuses its path samples.
+    const bool gi_buffers = settings.gi == GlobalIllumination::restir_gi ||
+                            (settings.gi == GlobalIllumination::vpl_unbiased &&
+                             settings.vpl_path_part == VplPathPart::reuse);
+    const std::uint64_t paths = !restir                                        ? 0u
+                                : gi_buffers                                   ? 216u
                                 : settings.gi == GlobalIllumination::restir_pt ? 336u
                                                                                : 0u;
     const std::uint64_t per_pixel = (restir ? 384u : 192u) + paths + (with_reference ? 48u : 0u);

@@ -31,7 +31,7 @@ enum class GlobalIllumination {
     restir_pt,
     /// Direct light + VPL GI without bias (restir::VplPartition): VPLs on Lambertian surfaces
     /// with the falloff 1 / max(d, r)^2 through the receivers' diffuse lobes, in ReSTIR DI's
-    /// light set; ReSTIR GI's path samples carry the rest (--method restir; the reference
+    /// light set; path samples carry the rest (`vpl_path_part`; --method restir; the reference
     /// renders the same integral as `path`).
     vpl_unbiased
 };

@@ -185,6 +185,15 @@ TEST(Cli, RendersBeyondTheMemoryLimitAreRefused) {
     huge.width = 16384;
     huge.height = 16384;
     EXPECT_GT(pt::estimated_memory_bytes(huge, false), std::uint64_t{64} << 30u);
+    // vpl-unbiased keeps ReSTIR GI's three 72-byte reservoir buffers only when it reuses paths.
+    pt::RenderSettings unbiased;
+    unbiased.gi = pt::GlobalIllumination::vpl_unbiased;
+    pt::RenderSettings reused = unbiased;
+    reused.vpl_path_part = pt::VplPathPart::reuse;
+    const std::uint64_t pixels = std::uint64_t{unbiased.width} * unbiased.height;
+    EXPECT_EQ(pt::estimated_memory_bytes(reused, false) -
+                  pt::estimated_memory_bytes(unbiased, false),
+              216u * pixels);
 }
 
 // An emitter whose power overflows a float used to be reported as "all weights are zero".
